@@ -1,0 +1,251 @@
+/* psim [OPTIONS] [SCENE [THREADS]]: run a scene. */
+#define _GNU_SOURCE
+#include <getopt.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <omp.h>
+
+#include "cli.h"
+#include "psim/psim.h"
+#include "../engine/timer.h"
+
+typedef struct run_opts {
+    const char *scene, *out, *trace, *stats;
+    long threads, steps, digits, tile;
+    int check, quiet;
+} run_opts;
+
+static void run_usage(FILE *f)
+{
+    fprintf(f,
+"usage: psim [OPTIONS] [SCENE [THREADS]]\n"
+"       psim gen [OPTIONS]            write a scene (psim gen --help)\n"
+"\n"
+"Run SCENE (CS3210 AY2024/25 format: N, L, r, S, then N lines 'i x y vx vy')\n"
+"with the discrete model.  Without SCENE, run the built-in default scene\n"
+"(20000 disks, density 0.5, 100 steps).  SCENE '-' reads standard input.\n"
+"THREADS, as in the course's 'sim.perf input.in 8', is the same as --threads.\n"
+"\n"
+"options:\n"
+"  -t, --threads N   OpenMP threads (default: OMP_NUM_THREADS, else all cores)\n"
+"  -s, --steps S     run S steps instead of the scene's\n"
+"  -o, --out FILE    write the final state: lines 'S i x y vx vy' in id order\n"
+"      --trace FILE  write the state after every step 1..S (same lines)\n"
+"      --digits N    fixed N decimals (8 gives the course's format); default:\n"
+"                    the shortest text that reads back to the same double\n"
+"      --check       validate every step as the course's validator does\n"
+"      --stats FILE  write run statistics (phase times, counts) as JSON\n"
+"      --tile N      cells per tile side, a power of two (default: automatic)\n"
+"  -q, --quiet       print nothing but errors\n"
+"  -h, --help        show this help\n"
+"  -V, --version     show the version\n"
+"\n"
+"Output files appear only when complete.  Results do not depend on the\n"
+"thread count.  Exit status: 0 ok, 1 error (bad input, failed --check), 2 usage.\n");
+}
+
+static int parse_run(int argc, char **argv, run_opts *o)
+{
+    static const struct option longs[] = {
+        {"threads", required_argument, 0, 't'}, {"steps", required_argument, 0, 's'},
+        {"out", required_argument, 0, 'o'},     {"trace", required_argument, 0, 'T'},
+        {"digits", required_argument, 0, 'd'},  {"check", no_argument, 0, 'c'},
+        {"stats", required_argument, 0, 'S'},   {"tile", required_argument, 0, 'L'},
+        {"quiet", no_argument, 0, 'q'},         {"help", no_argument, 0, 'h'},
+        {"version", no_argument, 0, 'V'},       {0, 0, 0, 0}};
+    memset(o, 0, sizeof *o);
+    o->steps = -1;
+    o->digits = -1;
+    opterr = 0;
+    int c;
+    while ((c = getopt_long(argc, argv, ":t:s:o:qhV", longs, NULL)) != -1) {
+        switch (c) {
+        case 't': if (cli_long("--threads", optarg, 1, 4096, &o->threads)) return 2; break;
+        case 's': if (cli_long("--steps", optarg, 0, 1000000000L, &o->steps)) return 2; break;
+        case 'o': o->out = optarg; break;
+        case 'T': o->trace = optarg; break;
+        case 'd': if (cli_long("--digits", optarg, 0, 30, &o->digits)) return 2; break;
+        case 'c': o->check = 1; break;
+        case 'S': o->stats = optarg; break;
+        case 'L':
+            if (cli_long("--tile", optarg, 1, 1 << 20, &o->tile)) return 2;
+            if (o->tile & (o->tile - 1)) {
+                fprintf(stderr, "psim: --tile: %ld is not a power of two\n", o->tile);
+                return 2;
+            }
+            break;
+        case 'q': o->quiet = 1; break;
+        case 'h': run_usage(stdout); exit(0);
+        case 'V': printf("psim %s (%s, OpenMP %d)\n", PSIM_VERSION, psim_allocator(), _OPENMP); exit(0);
+        case ':':
+            fprintf(stderr, "psim: option '%s' needs a value (see psim --help)\n", argv[optind - 1]);
+            return 2;
+        default:
+            fprintf(stderr, "psim: unknown option '%s' (see psim --help)\n", argv[optind - 1]);
+            return 2;
+        }
+    }
+    int rest = argc - optind;
+    if (rest > 2) {
+        fprintf(stderr, "psim: too many arguments: '%s' (usage: psim [OPTIONS] [SCENE [THREADS]])\n",
+                argv[optind + 2]);
+        return 2;
+    }
+    if (rest >= 1)
+        o->scene = argv[optind];
+    if (rest == 2 && cli_long("THREADS", argv[optind + 1], 1, 4096, &o->threads))
+        return 2;
+    return 0;
+}
+
+static int default_scene(psim_scene *sc, psim_error *err)
+{
+    psim_gen_params p = {.n = 20000, .r = 2, .steps = 100, .vmin = -1, .vmax = 1,
+                         .seed = 1, .place = PSIM_PLACE_UNIFORM};
+    p.L = round(sqrt(p.n * M_PI * p.r * p.r / 0.5));
+    return psim_scene_generate(&p, sc, err);
+}
+
+static int load_scene(const run_opts *o, psim_scene *sc, psim_error *err)
+{
+    if (!o->scene)
+        return default_scene(sc, err);
+    if (strcmp(o->scene, "-") == 0)
+        return psim_scene_read_stream(stdin, "<stdin>", sc, err);
+    return psim_scene_read(o->scene, sc, err);
+}
+
+typedef struct run_state {
+    outfile out, trace, stats;
+    double *x, *y, *vx, *vy;
+} run_state;
+
+static int write_state(const psim_sim *s, FILE *f, long step, long digits,
+                       run_state *rs)
+{
+    psim_get_state(s, rs->x, rs->y, rs->vx, rs->vy);
+    return psim_write_state(f, step, psim_count(s), rs->x, rs->y, rs->vx, rs->vy,
+                            (int)digits);
+}
+
+static void print_summary(const run_opts *o, const psim_scene *sc,
+                          const psim_sim *s, double secs)
+{
+    const psim_stats *st = psim_get_stats(s);
+    double steps = st->steps > 0 ? (double)st->steps : 1.0;
+    printf("psim %s: discrete model, %s: %ld disks, L %g, r %g, density %.3f\n",
+           PSIM_VERSION, o->scene ? o->scene : "default scene", sc->n, sc->L, sc->r,
+           psim_scene_density(sc));
+    printf("  %ld steps on %d threads in %.3f s (%.3f ms/step)%s\n", st->steps,
+           st->threads, secs, 1e3 * secs / steps, o->check ? ", every step checked" : "");
+    printf("  phases:");
+    for (int p = 0; p < PSIM_PHASE_COUNT; p++)
+        if (p != PSIM_PHASE_CHECK || o->check)
+            printf(" %s %.3f s", psim_phase_name((psim_phase)p), st->phase_s[p]);
+    printf("\n  per step: %.0f contacts, %.1f rounds (max %llu), %.0f pair and %.0f wall "
+           "resolutions, %.0f tasks\n",
+           (double)st->contacts / steps, (double)st->rounds / steps,
+           (unsigned long long)st->max_rounds, (double)st->pair_resolutions / steps,
+           (double)st->wall_resolutions / steps, (double)st->tasks / steps);
+    printf("  grid %d x %d cells, tiles of %d x %d cells (%d tiles)\n", st->grid_cells,
+           st->grid_cells, st->tile_cells, st->tile_cells, st->tiles);
+}
+
+static int open_outputs(const run_opts *o, run_state *rs)
+{
+    if (o->out && outfile_open(&rs->out, o->out))
+        return -1;
+    if (o->trace && outfile_open(&rs->trace, o->trace))
+        return -1;
+    if (o->stats && outfile_open(&rs->stats, o->stats))
+        return -1;
+    return 0;
+}
+
+static void abort_outputs(run_state *rs)
+{
+    outfile_abort(&rs->out);
+    outfile_abort(&rs->trace);
+    outfile_abort(&rs->stats);
+}
+
+static int simulate(const run_opts *o, psim_sim *s, long steps, run_state *rs,
+                    psim_error *err)
+{
+    progress pb;
+    progress_init(&pb, steps, o->quiet);
+    for (long k = 1; k <= steps; k++) {
+        if (psim_step(s, err))
+            return -1;
+        if (rs->trace.f && write_state(s, rs->trace.f, k, o->digits, rs)) {
+            psim_error_set(err, "%s: write failed", o->trace);
+            return -1;
+        }
+        progress_update(&pb, k);
+    }
+    progress_done(&pb);
+    return 0;
+}
+
+int cli_run(int argc, char **argv)
+{
+    run_opts o;
+    int rc = parse_run(argc, argv, &o);
+    if (rc)
+        return rc;
+    psim_error err = {{0}};
+    psim_scene sc = {0};
+    run_state rs = {0};
+    psim_sim *s = NULL;
+    rc = 1;
+    if (load_scene(&o, &sc, &err)) {
+        fprintf(stderr, "psim: %s\n", err.msg);
+        goto done;
+    }
+    long steps = o.steps >= 0 ? o.steps : sc.steps;
+    size_t b = (size_t)(sc.n > 0 ? sc.n : 1) * sizeof(double);
+    rs.x = malloc(b), rs.y = malloc(b), rs.vx = malloc(b), rs.vy = malloc(b);
+    if (!rs.x || !rs.y || !rs.vx || !rs.vy) {
+        fprintf(stderr, "psim: out of memory for %ld particles\n", sc.n);
+        goto done;
+    }
+    if (open_outputs(&o, &rs))
+        goto done;
+    psim_config cfg;
+    psim_config_default(&cfg);
+    cfg.threads = (int)o.threads;
+    cfg.tile_cells = (int)o.tile;
+    cfg.check = o.check;
+    omp_set_dynamic(0);
+    s = psim_create(&sc, &cfg, &err);
+    if (!s) {
+        fprintf(stderr, "psim: %s\n", err.msg);
+        goto done;
+    }
+    double t0 = psim_now();
+    if (simulate(&o, s, steps, &rs, &err)) {
+        fprintf(stderr, "psim: %s%s%s\n", o.scene ? o.scene : "default scene", ": ",
+                err.msg);
+        goto done;
+    }
+    double secs = psim_now() - t0;
+    if (rs.out.f && write_state(s, rs.out.f, steps, o.digits, &rs)) {
+        fprintf(stderr, "psim: %s: write failed\n", o.out);
+        goto done;
+    }
+    if (rs.stats.f)
+        psim_write_stats_json(rs.stats.f, s, o.scene ? o.scene : "default", secs);
+    if (outfile_commit(&rs.out) || outfile_commit(&rs.trace) || outfile_commit(&rs.stats))
+        goto done;
+    if (!o.quiet)
+        print_summary(&o, &sc, s, secs);
+    rc = 0;
+done:
+    abort_outputs(&rs);
+    psim_destroy(s);
+    psim_scene_free(&sc);
+    free(rs.x), free(rs.y), free(rs.vx), free(rs.vy);
+    return rc;
+}

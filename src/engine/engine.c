@@ -1,0 +1,169 @@
+#include "engine.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <omp.h>
+
+#include "mem.h"
+#include "timer.h"
+
+void psim_error_set(psim_error *err, const char *fmt, ...)
+{
+    if (!err)
+        return;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(err->msg, sizeof err->msg, fmt, ap);
+    va_end(ap);
+}
+
+void psim_config_default(psim_config *cfg)
+{
+    memset(cfg, 0, sizeof *cfg);
+    cfg->model = PSIM_MODEL_DISCRETE;
+}
+
+const char *psim_phase_name(psim_phase p)
+{
+    static const char *names[PSIM_PHASE_COUNT] = {"move", "sort", "contacts",
+                                                  "resolve", "check"};
+    return (p >= 0 && p < PSIM_PHASE_COUNT) ? names[p] : "?";
+}
+
+static int snapshot_alloc(psim_snapshot *s, long n)
+{
+    s->n = n;
+    size_t b = (size_t)(n > 0 ? n : 1) * sizeof(double);
+    s->x = psim_alloc(b);
+    s->y = psim_alloc(b);
+    s->vx = psim_alloc(b);
+    s->vy = psim_alloc(b);
+    return (s->x && s->y && s->vx && s->vy) ? 0 : -1;
+}
+
+static void snapshot_free(psim_snapshot *s)
+{
+    psim_free(s->x);
+    psim_free(s->y);
+    psim_free(s->vx);
+    psim_free(s->vy);
+    memset(s, 0, sizeof *s);
+}
+
+psim_sim *psim_create(const psim_scene *sc, const psim_config *cfg,
+                      psim_error *err)
+{
+    psim_sim *e = calloc(1, sizeof *e);
+    if (!e) {
+        psim_error_set(err, "out of memory");
+        return NULL;
+    }
+    e->cfg = *cfg;
+    e->threads = cfg->threads > 0 ? cfg->threads : omp_get_max_threads();
+    e->n = sc->n;
+    e->L = sc->L;
+    e->r = sc->r;
+    e->model = psim_model_get(cfg->model);
+    if (!e->model) {
+        psim_error_set(err, "unknown model");
+        goto fail;
+    }
+    if (psim_store_init(&e->st, (size_t)sc->n) ||
+        psim_grid_init(&e->grid, sc->L, sc->r, sc->n, cfg->tile_cells) ||
+        psim_sorter_init(&e->sorter, e->threads, e->grid.ncells)) {
+        psim_error_set(err, "out of memory for %ld particles", sc->n);
+        goto fail;
+    }
+    for (long i = 0; i < sc->n; i++) {
+        e->st.x[i] = sc->x[i];
+        e->st.y[i] = sc->y[i];
+        e->st.vx[i] = sc->vx[i];
+        e->st.vy[i] = sc->vy[i];
+        e->st.id[i] = (int32_t)i;
+    }
+    if (cfg->check &&
+        (snapshot_alloc(&e->before, e->n) || snapshot_alloc(&e->after, e->n))) {
+        psim_error_set(err, "out of memory for checks");
+        goto fail;
+    }
+    e->stats.threads = e->threads;
+    e->stats.grid_cells = e->grid.G;
+    e->stats.tile_cells = 1 << e->grid.tile_shift;
+    e->stats.tiles = (int)e->grid.ntiles;
+    e->mstate = e->model->create(e, err);
+    if (!e->mstate)
+        goto fail;
+    return e;
+fail:
+    psim_destroy(e);
+    return NULL;
+}
+
+void psim_destroy(psim_sim *e)
+{
+    if (!e)
+        return;
+    if (e->mstate)
+        e->model->destroy(e->mstate);
+    psim_sorter_free(&e->sorter);
+    psim_grid_free(&e->grid);
+    psim_store_free(&e->st);
+    snapshot_free(&e->before);
+    snapshot_free(&e->after);
+    free(e);
+}
+
+void psim_get_state(const psim_sim *e, double *x, double *y, double *vx,
+                    double *vy)
+{
+    const psim_store *s = &e->st;
+    for (size_t k = 0; k < s->n; k++) {
+        int32_t i = s->id[k];
+        if (x)
+            x[i] = s->x[k];
+        if (y)
+            y[i] = s->y[k];
+        if (vx)
+            vx[i] = s->vx[k];
+        if (vy)
+            vy[i] = s->vy[k];
+    }
+}
+
+static void take_snapshot(const psim_sim *e, psim_snapshot *s)
+{
+    psim_get_state(e, s->x, s->y, s->vx, s->vy);
+}
+
+__attribute__((noinline)) static void phase_sort(psim_sim *e)
+{
+    psim_sort_by_cell(&e->sorter, &e->st, &e->grid, e->threads);
+}
+
+int psim_step(psim_sim *e, psim_error *err)
+{
+    if (e->cfg.check)
+        PSIM_TIMED(e, PSIM_PHASE_CHECK, take_snapshot(e, &e->before));
+    PSIM_TIMED(e, PSIM_PHASE_MOVE, e->model->drift(e, e->mstate));
+    PSIM_TIMED(e, PSIM_PHASE_SORT, phase_sort(e));
+    if (e->model->interact(e, e->mstate, err))
+        return -1;
+    e->step++;
+    e->stats.steps = e->step;
+    if (e->cfg.check && e->model->check) {
+        int rc;
+        PSIM_TIMED(e, PSIM_PHASE_CHECK,
+                   (take_snapshot(e, &e->after),
+                    rc = e->model->check(e, e->mstate, &e->before, &e->after, err)));
+        if (rc)
+            return -1;
+    }
+    return 0;
+}
+
+long psim_step_index(const psim_sim *e) { return e->step; }
+long psim_count(const psim_sim *e) { return e->n; }
+const psim_stats *psim_get_stats(const psim_sim *e) { return &e->stats; }

@@ -1,0 +1,125 @@
+#include "grid.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "mem.h"
+#include "morton.h"
+
+/* Cells per side: as many as fit with side > 2r, but no more than about
+ * four cells per particle, so sparse scenes do not pay for empty cells. */
+static int plan_cells(double L, double r, long n)
+{
+    double fit = (r > 0.0) ? floor(L / (2.0 * r) * (1.0 - 1e-9)) : 1e9;
+    double cap = ceil(2.0 * sqrt((double)(n > 0 ? n : 1)));
+    double G = fmin(fit, cap);
+    if (!(G >= 1.0))
+        G = 1.0;
+    return (int)G;
+}
+
+static int plan_tile_shift(int G, int bits, long n, int tile_cells)
+{
+    int shift = 0;
+    if (tile_cells > 0) {
+        while ((1 << shift) < tile_cells && shift < bits)
+            shift++;
+        return shift;
+    }
+    double per_cell = (double)(n > 0 ? n : 1) / ((double)G * G);
+    double side = sqrt(1024.0 / per_cell);
+    shift = (int)lround(log2(side));
+    if (shift < 0)
+        shift = 0;
+    if (shift > bits)
+        shift = bits;
+    return shift;
+}
+
+/* Number the cells of a W x W grid by dense Morton rank. */
+static void rank_cells(int W, int bits, uint32_t *rank_of_xy, int32_t *xs,
+                       int32_t *ys)
+{
+    uint32_t next = 0;
+    uint64_t keys = 1ull << (2 * bits);
+    for (uint64_t k = 0; k < keys; k++) {
+        uint32_t x, y;
+        psim_morton_decode(k, &x, &y);
+        if (x >= (uint32_t)W || y >= (uint32_t)W)
+            continue;
+        rank_of_xy[y * (uint32_t)W + x] = next;
+        xs[next] = (int32_t)x;
+        ys[next] = (int32_t)y;
+        next++;
+    }
+}
+
+static int bits_for(int W)
+{
+    int b = 0;
+    while ((1 << b) < W)
+        b++;
+    return b;
+}
+
+int psim_grid_init(psim_grid *g, double L, double r, long n, int tile_cells)
+{
+    memset(g, 0, sizeof *g);
+    g->L = L;
+    g->G = plan_cells(L, r, n);
+    g->h = L / g->G;
+    g->invh = g->G / L;
+    g->bits = bits_for(g->G);
+    g->ncells = (uint32_t)g->G * (uint32_t)g->G;
+    g->tile_shift = plan_tile_shift(g->G, g->bits, n, tile_cells);
+    int S = 1 << g->tile_shift;
+    g->TG = (g->G + S - 1) / S;
+    g->ntiles = (uint32_t)g->TG * (uint32_t)g->TG;
+
+    g->rank_of_xy = psim_alloc(g->ncells * sizeof *g->rank_of_xy);
+    g->cell_x = psim_alloc(g->ncells * sizeof *g->cell_x);
+    g->cell_y = psim_alloc(g->ncells * sizeof *g->cell_y);
+    g->cellstart = psim_calloc((g->ncells + 1) * sizeof *g->cellstart);
+    g->tile_of_xy = psim_alloc(g->ntiles * sizeof *g->tile_of_xy);
+    g->tile_x = psim_alloc(g->ntiles * sizeof *g->tile_x);
+    g->tile_y = psim_alloc(g->ntiles * sizeof *g->tile_y);
+    g->tile_cell0 = psim_calloc((g->ntiles + 1) * sizeof *g->tile_cell0);
+    g->tile_wall = psim_calloc(g->ntiles);
+    if (!g->rank_of_xy || !g->cell_x || !g->cell_y || !g->cellstart ||
+        !g->tile_of_xy || !g->tile_x || !g->tile_y || !g->tile_cell0 ||
+        !g->tile_wall) {
+        psim_grid_free(g);
+        return -1;
+    }
+    rank_cells(g->G, g->bits, g->rank_of_xy, g->cell_x, g->cell_y);
+    rank_cells(g->TG, bits_for(g->TG), g->tile_of_xy, g->tile_x, g->tile_y);
+
+    /* Tiles in rank order own consecutive cell ranks. */
+    uint32_t prev = UINT32_MAX;
+    for (uint32_t c = 0; c < g->ncells; c++) {
+        uint32_t t = psim_grid_tile_of_cell(g, c);
+        if (t != prev) {
+            g->tile_cell0[t] = c;
+            prev = t;
+        }
+        int cx = g->cell_x[c], cy = g->cell_y[c];
+        if (cx == 0 || cy == 0 || cx == g->G - 1 || cy == g->G - 1)
+            g->tile_wall[t] = 1;
+    }
+    g->tile_cell0[g->ntiles] = g->ncells;
+    return 0;
+}
+
+void psim_grid_free(psim_grid *g)
+{
+    psim_free(g->rank_of_xy);
+    psim_free(g->cell_x);
+    psim_free(g->cell_y);
+    psim_free(g->cellstart);
+    psim_free(g->tile_of_xy);
+    psim_free(g->tile_x);
+    psim_free(g->tile_y);
+    psim_free(g->tile_cell0);
+    psim_free(g->tile_wall);
+    memset(g, 0, sizeof *g);
+}

@@ -1,0 +1,60 @@
+/* The uniform cell grid and its tiles.
+ *
+ * Cells have side h > 2r, so overlapping disks are in the same or adjacent
+ * cells.  Cells are numbered by their dense Morton rank: the Morton keys of
+ * the G x G cells, renumbered 0..G*G-1 in key order, so a counting sort by
+ * rank is a sort by Morton key with no empty buckets outside the grid.
+ * Tiles are aligned blocks of S x S cells (S a power of two); in Morton order
+ * the cells of a tile are one contiguous rank range, and so are its
+ * particles after the sort.  Positions outside [0, L] are clamped into the
+ * border cells, which keeps adjacent disks in adjacent cells. */
+#ifndef PSIM_ENGINE_GRID_H
+#define PSIM_ENGINE_GRID_H
+#include <stdint.h>
+
+typedef struct psim_grid {
+    double L, h, invh;
+    int G;                  /* cells per side */
+    int bits;               /* 2^bits >= G */
+    uint32_t ncells;        /* G * G */
+    uint32_t *rank_of_xy;   /* [cy * G + cx] -> rank */
+    int32_t *cell_x, *cell_y; /* rank -> coordinates */
+    uint32_t *cellstart;    /* ncells + 1: first particle of each cell */
+
+    int tile_shift;         /* S = 1 << tile_shift cells per tile side */
+    int TG;                 /* tiles per side */
+    uint32_t ntiles;
+    uint32_t *tile_of_xy;   /* [ty * TG + tx] -> tile rank */
+    int32_t *tile_x, *tile_y;
+    uint32_t *tile_cell0;   /* ntiles + 1: first cell rank of each tile */
+    uint8_t *tile_wall;     /* tile holds a border cell */
+} psim_grid;
+
+/* Plan a grid for n disks of radius r in [0, L]^2.  tile_cells: cells per
+ * tile side (a power of two), or 0 to choose ~1024 particles per tile. */
+int psim_grid_init(psim_grid *g, double L, double r, long n, int tile_cells);
+void psim_grid_free(psim_grid *g);
+
+static inline int psim_grid_coord(const psim_grid *g, double v)
+{
+    double c = v * g->invh;
+    if (!(c >= 0.0))        /* negative or NaN */
+        return 0;
+    if (c >= (double)(g->G - 1))
+        return g->G - 1;
+    return (int)c;
+}
+
+static inline uint32_t psim_grid_cell(const psim_grid *g, double x, double y)
+{
+    return g->rank_of_xy[(uint32_t)psim_grid_coord(g, y) * (uint32_t)g->G +
+                         (uint32_t)psim_grid_coord(g, x)];
+}
+
+static inline uint32_t psim_grid_tile_of_cell(const psim_grid *g, uint32_t cell)
+{
+    int tx = g->cell_x[cell] >> g->tile_shift, ty = g->cell_y[cell] >> g->tile_shift;
+    return g->tile_of_xy[ty * g->TG + tx];
+}
+
+#endif

@@ -1,0 +1,101 @@
+#include "sort.h"
+
+#include <string.h>
+
+#include "mem.h"
+
+#define MAX_CHUNKS 16
+
+int psim_sorter_init(psim_sorter *so, int threads, uint32_t ncells)
+{
+    so->chunks = threads < 1 ? 1 : (threads > MAX_CHUNKS ? MAX_CHUNKS : threads);
+    so->ncells = ncells;
+    so->hist = psim_alloc((size_t)so->chunks * ncells * sizeof(uint32_t));
+    so->block_total = psim_alloc((size_t)so->chunks * sizeof(uint32_t));
+    return (so->hist && so->block_total) ? 0 : -1;
+}
+
+void psim_sorter_free(psim_sorter *so)
+{
+    psim_free(so->hist);
+    psim_free(so->block_total);
+    memset(so, 0, sizeof *so);
+}
+
+static inline size_t part_lo(size_t n, int parts, int k)
+{
+    return n * (size_t)k / (size_t)parts;
+}
+
+__attribute__((noinline)) size_t psim_sort_by_cell(psim_sorter *so,
+                                                   psim_store *st,
+                                                   psim_grid *g, int threads)
+{
+    const int C = so->chunks;
+    const uint32_t B = so->ncells;
+    const size_t n = st->n;
+    size_t moved = 0;
+
+#pragma omp parallel num_threads(threads) reduction(+ : moved)
+    {
+        /* 1. cell of every particle, counted per chunk of particles */
+#pragma omp for schedule(static)
+        for (int c = 0; c < C; c++) {
+            uint32_t *h = so->hist + (size_t)c * B;
+            memset(h, 0, B * sizeof *h);
+            for (size_t i = part_lo(n, C, c); i < part_lo(n, C, c + 1); i++) {
+                uint32_t k = psim_grid_cell(g, st->x[i], st->y[i]);
+                st->cell[i] = k;
+                h[k]++;
+            }
+        }
+        /* 2. exclusive scan in (cell, chunk) order, by blocks of cells */
+#pragma omp for schedule(static)
+        for (int b = 0; b < C; b++) {
+            uint32_t sum = 0;
+            for (size_t k = part_lo(B, C, b); k < part_lo(B, C, b + 1); k++)
+                for (int c = 0; c < C; c++)
+                    sum += so->hist[(size_t)c * B + k];
+            so->block_total[b] = sum;
+        }
+#pragma omp single
+        {
+            uint32_t run = 0;
+            for (int b = 0; b < C; b++) {
+                uint32_t t = so->block_total[b];
+                so->block_total[b] = run;
+                run += t;
+            }
+            g->cellstart[B] = run;
+        }
+#pragma omp for schedule(static)
+        for (int b = 0; b < C; b++) {
+            uint32_t run = so->block_total[b];
+            for (size_t k = part_lo(B, C, b); k < part_lo(B, C, b + 1); k++) {
+                g->cellstart[k] = run;
+                for (int c = 0; c < C; c++) {
+                    uint32_t *h = so->hist + (size_t)c * B + k;
+                    uint32_t cnt = *h;
+                    *h = run;
+                    run += cnt;
+                }
+            }
+        }
+        /* 3. stable scatter */
+#pragma omp for schedule(static)
+        for (int c = 0; c < C; c++) {
+            uint32_t *h = so->hist + (size_t)c * B;
+            for (size_t i = part_lo(n, C, c); i < part_lo(n, C, c + 1); i++) {
+                uint32_t d = h[st->cell[i]]++;
+                moved += (d != i);
+                st->x2[d] = st->x[i];
+                st->y2[d] = st->y[i];
+                st->vx2[d] = st->vx[i];
+                st->vy2[d] = st->vy[i];
+                st->id2[d] = st->id[i];
+            }
+        }
+    }
+    psim_store_swap(st);
+    return moved;
+}

@@ -1,0 +1,52 @@
+/* --stats FILE: the run's statistics as JSON. */
+#include <stdio.h>
+
+#include "psim/psim.h"
+#include "../engine/engine.h"
+#include "../engine/mem.h"
+
+const char *psim_allocator(void) { return psim_allocator_name(); }
+
+static void json_string(FILE *f, const char *s)
+{
+    fputc('"', f);
+    for (; s && *s; s++) {
+        unsigned char c = (unsigned char)*s;
+        if (c == '"' || c == '\\')
+            fprintf(f, "\\%c", c);
+        else if (c < 0x20)
+            fprintf(f, "\\u%04x", c);
+        else
+            fputc(c, f);
+    }
+    fputc('"', f);
+}
+
+int psim_write_stats_json(FILE *f, const psim_sim *e, const char *scene_name,
+                          double total_s)
+{
+    const psim_stats *s = &e->stats;
+    char L[64], r[64];
+    psim_format_double(L, e->L, -1);
+    psim_format_double(r, e->r, -1);
+    fprintf(f, "{\n  \"psim_version\": \"%s\",\n  \"model\": \"%s\",\n  \"scene\": ",
+            PSIM_VERSION, e->model->name);
+    json_string(f, scene_name ? scene_name : "");
+    fprintf(f, ",\n  \"n\": %ld,\n  \"L\": %s,\n  \"r\": %s,\n  \"steps\": %ld,\n"
+               "  \"threads\": %d,\n  \"allocator\": \"%s\",\n",
+            e->n, L, r, s->steps, s->threads, psim_allocator_name());
+    fprintf(f, "  \"grid_cells\": %d,\n  \"tile_cells\": %d,\n  \"tiles\": %d,\n",
+            s->grid_cells, s->tile_cells, s->tiles);
+    fprintf(f, "  \"time_s\": %.6f,\n  \"phases_s\": {", total_s);
+    for (int p = 0; p < PSIM_PHASE_COUNT; p++)
+        fprintf(f, "%s\"%s\": %.6f", p ? ", " : "", psim_phase_name((psim_phase)p),
+                s->phase_s[p]);
+    fprintf(f, "},\n  \"contacts\": %llu,\n  \"rounds\": %llu,\n  \"max_rounds\": %llu,\n"
+               "  \"pair_checks\": %llu,\n  \"pair_resolutions\": %llu,\n"
+               "  \"wall_resolutions\": %llu,\n  \"tasks\": %llu\n}\n",
+            (unsigned long long)s->contacts, (unsigned long long)s->rounds,
+            (unsigned long long)s->max_rounds, (unsigned long long)s->pair_checks,
+            (unsigned long long)s->pair_resolutions,
+            (unsigned long long)s->wall_resolutions, (unsigned long long)s->tasks);
+    return ferror(f) ? -1 : 0;
+}

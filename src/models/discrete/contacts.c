@@ -1,0 +1,122 @@
+/* Contact finding: once per step, per tile, in parallel.  Each disk looks at
+ * its own cell and the forward half of the 8 neighbour cells, so each pair
+ * is seen once.  Pairs inside the tile go to its contact list (then a CSR by
+ * disk for the worklist); pairs reaching a neighbour tile go to the list of
+ * that direction, which the edge task of the two tiles reads. */
+#include <string.h>
+
+#include "collide.h"
+#include "discrete.h"
+#include "../../engine/mem.h"
+
+static const int half_stencil[4][2] = {{1, 0}, {-1, 1}, {0, 1}, {1, 1}};
+
+static int push(dlist *l, int32_t i, int32_t j, double dx, double dy, double d2)
+{
+    if (l->n == l->cap &&
+        psim_reserve((void **)&l->c, &l->cap, l->n + 1, sizeof *l->c))
+        return -1;
+    l->c[l->n++] = (dcontact){i, j, dx, dy, d2};
+    return 0;
+}
+
+static int scan_cells(const psim_sim *e, const dmodel *m, uint32_t ca,
+                      uint32_t cb, dlist *to, int same)
+{
+    const psim_grid *g = &e->grid;
+    const double *x = e->st.x, *y = e->st.y;
+    uint32_t a0 = g->cellstart[ca], a1 = g->cellstart[ca + 1];
+    uint32_t b0 = g->cellstart[cb], b1 = g->cellstart[cb + 1];
+    for (uint32_t i = a0; i < a1; i++) {
+        for (uint32_t j = same ? i + 1 : b0; j < b1; j++) {
+            double dx = x[j] - x[i], dy = y[j] - y[i];
+            double d2 = dx * dx + dy * dy;
+            if (psim_overlaps(d2, m->four_r2) &&
+                push(to, (int32_t)i, (int32_t)j, dx, dy, d2))
+                return -1;
+        }
+    }
+    return 0;
+}
+
+static int build_adjacency(dtile *t)
+{
+    size_t n = t->p1 - t->p0;
+    if (psim_reserve((void **)&t->adj0, &t->adj0_cap, n + 1, sizeof *t->adj0) ||
+        psim_reserve((void **)&t->adj, &t->adj_cap, 2 * t->in.n + 1, sizeof *t->adj) ||
+        psim_reserve((void **)&t->queue, &t->queue_cap, n + 1, sizeof *t->queue))
+        return -1;
+    memset(t->adj0, 0, (n + 1) * sizeof *t->adj0);
+    for (size_t k = 0; k < t->in.n; k++) {
+        t->adj0[t->in.c[k].i - t->p0 + 1]++;
+        t->adj0[t->in.c[k].j - t->p0 + 1]++;
+    }
+    for (size_t k = 0; k < n; k++)
+        t->adj0[k + 1] += t->adj0[k];
+    /* fill using adj0[k] as a cursor, then shift back */
+    for (size_t k = 0; k < t->in.n; k++) {
+        const dcontact *c = &t->in.c[k];
+        t->adj[t->adj0[c->i - t->p0]++] = (dadj){c->j, c->dx, c->dy, c->d2};
+        t->adj[t->adj0[c->j - t->p0]++] = (dadj){c->i, -c->dx, -c->dy, c->d2};
+    }
+    for (size_t k = n; k > 0; k--)
+        t->adj0[k] = t->adj0[k - 1];
+    t->adj0[0] = 0;
+    return 0;
+}
+
+static void tile_contacts(const psim_sim *e, dmodel *m, uint32_t tid)
+{
+    const psim_grid *g = &e->grid;
+    dtile *t = &m->tiles[tid];
+    t->in.n = 0;
+    for (int d = 0; d < DIRS; d++)
+        t->cross[d].n = 0;
+    int bad = 0;
+    int tx = g->tile_x[tid], ty = g->tile_y[tid];
+    for (uint32_t c = g->tile_cell0[tid]; c < g->tile_cell0[tid + 1] && !bad; c++) {
+        if (g->cellstart[c] == g->cellstart[c + 1])
+            continue;
+        bad |= scan_cells(e, m, c, c, &t->in, 1);
+        int cx = g->cell_x[c], cy = g->cell_y[c];
+        for (int k = 0; k < 4; k++) {
+            int nx = cx + half_stencil[k][0], ny = cy + half_stencil[k][1];
+            if (nx < 0 || ny < 0 || nx >= g->G || ny >= g->G)
+                continue;
+            uint32_t c2 = g->rank_of_xy[ny * g->G + nx];
+            if (g->cellstart[c2] == g->cellstart[c2 + 1])
+                continue;
+            int dtx = (nx >> g->tile_shift) - tx, dty = (ny >> g->tile_shift) - ty;
+            int d = (dtx + 1) + 3 * (dty + 1);
+            dlist *to = (d == 4) ? &t->in : &t->cross[d];
+            bad |= scan_cells(e, m, c, c2, to, 0);
+        }
+    }
+    if (!bad)
+        bad = build_adjacency(t);
+    t->oom = (uint8_t)(bad != 0);
+}
+
+__attribute__((noinline)) void discrete_find_contacts(psim_sim *e, dmodel *m)
+{
+    const psim_grid *g = &e->grid;
+    for (uint32_t t = 0; t < m->ntiles; t++) {
+        m->tiles[t].p0 = g->cellstart[g->tile_cell0[t]];
+        m->tiles[t].p1 = g->cellstart[g->tile_cell0[t + 1]];
+    }
+    uint64_t found = 0;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(e->threads) reduction(+ : found)
+    for (uint32_t t = 0; t < m->ntiles; t++) {
+        if (m->tiles[t].p0 == m->tiles[t].p1) {
+            m->tiles[t].in.n = 0;
+            for (int d = 0; d < DIRS; d++)
+                m->tiles[t].cross[d].n = 0;
+            continue;
+        }
+        tile_contacts(e, m, t);
+        found += m->tiles[t].in.n;
+        for (int d = 0; d < DIRS; d++)
+            found += m->tiles[t].cross[d].n;
+    }
+    e->stats.contacts += found;
+}

@@ -1,0 +1,113 @@
+/* The discrete model behind the model interface. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "discrete.h"
+#include "../../engine/mem.h"
+
+/* Forward tile directions and the axis whose parity splits their chains:
+ * creating even links before odd ones lets independent edge tasks start
+ * together, while the depend clauses keep the order of conflicting ones. */
+static const struct { int dx, dy, axis; } forward[4] = {
+    {1, 0, 0}, {0, 1, 1}, {1, 1, 1}, {-1, 1, 1}};
+
+static int build_edges(const psim_grid *g, dmodel *m)
+{
+    m->edges = psim_alloc(4 * (size_t)m->ntiles * sizeof *m->edges);
+    m->edge_res = psim_calloc(4 * (size_t)m->ntiles * sizeof *m->edge_res);
+    if (!m->edges || !m->edge_res)
+        return -1;
+    m->nedges = 0;
+    for (int f = 0; f < 4; f++)
+        for (int parity = 0; parity < 2; parity++)
+            for (uint32_t t = 0; t < m->ntiles; t++) {
+                int tx = g->tile_x[t], ty = g->tile_y[t];
+                if (((f == 0 ? tx : ty) & 1) != parity)
+                    continue;
+                int ux = tx + forward[f].dx, uy = ty + forward[f].dy;
+                if (ux < 0 || uy < 0 || ux >= g->TG || uy >= g->TG)
+                    continue;
+                int dir = (forward[f].dx + 1) + 3 * (forward[f].dy + 1);
+                m->edges[m->nedges++] =
+                    (dedge){t, g->tile_of_xy[uy * g->TG + ux], dir};
+            }
+    return 0;
+}
+
+static void destroy(void *p)
+{
+    dmodel *m = p;
+    if (!m)
+        return;
+    for (uint32_t t = 0; m->tiles && t < m->ntiles; t++) {
+        dtile *d = &m->tiles[t];
+        psim_free(d->in.c);
+        for (int k = 0; k < DIRS; k++)
+            psim_free(d->cross[k].c);
+        psim_free(d->adj0);
+        psim_free(d->adj);
+        psim_free(d->queue);
+    }
+    psim_free(m->tiles);
+    psim_free(m->edges);
+    psim_free(m->edge_res);
+    psim_free(m->active);
+    psim_free(m->inq);
+    psim_free(m->dep);
+    free(m);
+}
+
+static void *create(psim_sim *e, psim_error *err)
+{
+    dmodel *m = calloc(1, sizeof *m);
+    if (!m)
+        goto oom;
+    m->ntiles = e->grid.ntiles;
+    m->four_r2 = 4.0 * e->r * e->r;
+    m->tiles = psim_calloc(m->ntiles * sizeof *m->tiles);
+    m->active = psim_calloc((size_t)e->n + 1);
+    m->inq = psim_calloc((size_t)e->n + 1);
+    m->dep = psim_calloc(m->ntiles);
+    if (!m->tiles || !m->active || !m->inq || !m->dep || build_edges(&e->grid, m))
+        goto oom;
+    return m;
+oom:
+    destroy(m);
+    psim_error_set(err, "out of memory for the discrete model");
+    return NULL;
+}
+
+__attribute__((noinline)) static void drift(psim_sim *e, void *p)
+{
+    (void)p;
+    psim_store *s = &e->st;
+    const long n = e->n;
+#pragma omp parallel for simd schedule(static) num_threads(e->threads)
+    for (long i = 0; i < n; i++) {
+        s->x[i] += s->vx[i];
+        s->y[i] += s->vy[i];
+    }
+}
+
+static int interact(psim_sim *e, void *p, psim_error *err)
+{
+    dmodel *m = p;
+    PSIM_TIMED(e, PSIM_PHASE_CONTACTS, discrete_find_contacts(e, m));
+    for (uint32_t t = 0; t < m->ntiles; t++)
+        if (m->tiles[t].oom) {
+            psim_error_set(err, "out of memory for contacts at step %ld",
+                           e->step + 1);
+            return -1;
+        }
+    PSIM_TIMED(e, PSIM_PHASE_RESOLVE, discrete_resolve(e, m));
+    return 0;
+}
+
+const psim_model psim_model_discrete = {
+    .name = "discrete",
+    .create = create,
+    .drift = drift,
+    .interact = interact,
+    .check = discrete_check,
+    .destroy = destroy,
+};

@@ -1,0 +1,86 @@
+/* The discrete model (NUS CS3210 AY2024/25), internal header.
+ *
+ * A step: drift every disk by its velocity; the engine sorts; then, with
+ * positions frozen, find the contacts (pairs at distance <= 2r) once and
+ * resolve collisions to a fixpoint over the contacts only.
+ *
+ * Resolution runs in rounds.  A round is one OpenMP task graph:
+ *   - one "tile" task per tile with work, depend(inout: tile): a worklist
+ *     fixpoint over the contacts inside the tile (and the walls, for border
+ *     tiles), re-checking only disks whose velocity changed;
+ *   - one "edge" task per pair of adjacent tiles with contacts across their
+ *     border, depend(inout: both tiles): a fixpoint over those contacts.
+ * Tasks that share a tile run in creation order, so every velocity sees the
+ * same sequence of updates whatever the thread count: output is identical
+ * for 1 or 64 threads.  Rounds repeat until one resolves nothing. */
+#ifndef PSIM_DISCRETE_H
+#define PSIM_DISCRETE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "../../engine/engine.h"
+
+/* A contact: disks i < j (store order) and dp = p_j - p_i. */
+typedef struct dcontact {
+    int32_t i, j;
+    double dx, dy, d2;
+} dcontact;
+
+/* One entry of a disk's contact list inside its tile. */
+typedef struct dadj {
+    int32_t j;
+    double dx, dy, d2;
+} dadj;
+
+/* Tile-neighbour directions: (dx+1) + 3 (dy+1); 4 is the tile itself. */
+#define DIRS 9
+#define DIR_OPP(d) (8 - (d))
+
+typedef struct dlist {
+    dcontact *c;
+    size_t n, cap;
+} dlist;
+
+typedef struct __attribute__((aligned(64))) dtile {
+    uint32_t p0, p1;            /* particles [p0, p1) */
+    dlist in;                   /* contacts inside the tile */
+    dlist cross[DIRS];          /* contacts found here that reach tile d */
+    uint32_t *adj0;             /* CSR of the inside contacts */
+    size_t adj0_cap;
+    dadj *adj;
+    size_t adj_cap;
+    uint32_t *queue;
+    size_t queue_cap;
+    uint64_t checks, pair_res, wall_res;  /* this step */
+    uint64_t round_res;                   /* this round, tile task */
+    uint8_t has_active;         /* a disk was changed by an edge task */
+    uint8_t changed_inner;      /* tile task resolved something this round */
+    uint8_t changed_cross_prev; /* edge tasks changed it last round */
+    uint8_t changed_cross_cur;  /* edge tasks changed it this round */
+    uint8_t oom;
+} dtile;
+
+typedef struct dedge {
+    uint32_t a, b;  /* tiles: b is a's neighbour in direction dir */
+    int dir;
+} dedge;
+
+typedef struct dmodel {
+    uint32_t ntiles;
+    dtile *tiles;
+    dedge *edges;       /* in task-creation order */
+    size_t nedges;
+    uint64_t *edge_res; /* per edge, this round */
+    uint8_t *active;    /* per particle: changed by an edge task */
+    uint8_t *inq;       /* per particle: in its tile's worklist */
+    char *dep;          /* one dependence object per tile */
+    double four_r2;
+} dmodel;
+
+void discrete_find_contacts(psim_sim *e, dmodel *m);
+void discrete_resolve(psim_sim *e, dmodel *m);
+int discrete_check(psim_sim *e, void *m, const psim_snapshot *before,
+                   const psim_snapshot *after, psim_error *err);
+
+#endif

@@ -1,0 +1,201 @@
+/* Collision resolution to a fixpoint, as rounds of a task graph
+ * (see discrete.h for the scheme and why it is deterministic). */
+#include <omp.h>
+
+#include "collide.h"
+#include "discrete.h"
+
+typedef struct wl {
+    uint32_t *q;
+    uint32_t cap, head, count;
+} wl;
+
+static inline void wl_push(wl *w, uint8_t *inq, uint32_t i)
+{
+    if (inq[i])
+        return;
+    inq[i] = 1;
+    uint32_t at = w->head + w->count++;
+    w->q[at >= w->cap ? at - w->cap : at] = i;
+}
+
+static inline uint32_t wl_pop(wl *w, uint8_t *inq)
+{
+    uint32_t i = w->q[w->head];
+    w->head = (w->head + 1 == w->cap) ? 0 : w->head + 1;
+    w->count--;
+    inq[i] = 0;
+    return i;
+}
+
+/* Worklist fixpoint over the contacts inside tile t (and its walls). */
+static void tile_task(const psim_sim *e, dmodel *m, dtile *t, int first)
+{
+    double *restrict vx = e->st.vx, *restrict vy = e->st.vy;
+    const double *x = e->st.x, *y = e->st.y;
+    const double L = e->L, r = e->r;
+    const int walls = e->grid.tile_wall[t - m->tiles];
+    uint8_t *inq = m->inq, *act = m->active;
+    wl w = {t->queue, t->p1 - t->p0, 0, 0};
+    uint64_t checks = 0, pres = 0, wres = 0;
+
+    for (uint32_t i = t->p0; i < t->p1; i++) {
+        if (first || act[i]) {
+            act[i] = 0;
+            wl_push(&w, inq, i);
+        }
+    }
+    t->has_active = 0;
+    while (w.count) {
+        uint32_t i = wl_pop(&w, inq);
+        if (walls && psim_wall_collides(x[i], y[i], vx[i], vy[i], L, r)) {
+            psim_wall_resolve(x[i], y[i], &vx[i], &vy[i], L, r);
+            wres++;
+        }
+        int changed = 0;
+        const dadj *a = t->adj + t->adj0[i - t->p0];
+        const dadj *end = t->adj + t->adj0[i - t->p0 + 1];
+        checks += (uint64_t)(end - a);
+        for (; a < end; a++) {
+            uint32_t j = (uint32_t)a->j;
+            double dot = psim_approach(a->dx, a->dy, vx[j] - vx[i], vy[j] - vy[i]);
+            if (psim_moving_closer(dot)) {
+                psim_pair_resolve(dot, a->dx, a->dy, a->d2, &vx[i], &vy[i],
+                                  &vx[j], &vy[j]);
+                changed = 1;
+                pres++;
+                wl_push(&w, inq, j);
+            }
+        }
+        if (changed)
+            wl_push(&w, inq, i);
+    }
+    t->checks += checks;
+    t->wall_res += wres;
+    t->pair_res += pres;
+    t->round_res = pres + wres;
+    t->changed_inner = (pres + wres) != 0;
+}
+
+/* One pass over a list of contacts across a tile border. */
+static uint64_t cross_pass(const psim_sim *e, dmodel *m, const dlist *l,
+                           uint64_t *checks)
+{
+    double *restrict vx = e->st.vx, *restrict vy = e->st.vy;
+    uint64_t res = 0;
+    for (size_t k = 0; k < l->n; k++) {
+        const dcontact *c = &l->c[k];
+        double dot = psim_approach(c->dx, c->dy, vx[c->j] - vx[c->i],
+                                   vy[c->j] - vy[c->i]);
+        if (psim_moving_closer(dot)) {
+            psim_pair_resolve(dot, c->dx, c->dy, c->d2, &vx[c->i], &vy[c->i],
+                              &vx[c->j], &vy[c->j]);
+            m->active[c->i] = 1;
+            m->active[c->j] = 1;
+            res++;
+        }
+    }
+    *checks += l->n;
+    return res;
+}
+
+/* Fixpoint over the contacts between tiles a and b. */
+static void edge_task(const psim_sim *e, dmodel *m, size_t k, int first)
+{
+    const dedge *ed = &m->edges[k];
+    dtile *a = &m->tiles[ed->a], *b = &m->tiles[ed->b];
+    m->edge_res[k] = 0;
+    if (!first && !(a->changed_inner || b->changed_inner ||
+                    a->changed_cross_prev || b->changed_cross_prev))
+        return;
+    const dlist *la = &a->cross[ed->dir], *lb = &b->cross[DIR_OPP(ed->dir)];
+    uint64_t total = 0, res, checks = 0;
+    do {
+        res = cross_pass(e, m, la, &checks) + cross_pass(e, m, lb, &checks);
+        total += res;
+    } while (res);
+    a->checks += checks;
+    a->pair_res += total;
+    if (total) {
+        a->changed_cross_cur = b->changed_cross_cur = 1;
+        a->has_active = b->has_active = 1;
+    }
+    m->edge_res[k] = total;
+}
+
+static int edge_has_work(const dmodel *m, const dedge *ed)
+{
+    return m->tiles[ed->a].cross[ed->dir].n + m->tiles[ed->b].cross[DIR_OPP(ed->dir)].n > 0;
+}
+
+/* Emit one round's task graph; returns the number of tasks. */
+static uint64_t emit_round(const psim_sim *e, dmodel *m, int first)
+{
+    uint64_t tasks = 0;
+    for (uint32_t ti = 0; ti < m->ntiles; ti++) {
+        dtile *t = &m->tiles[ti];
+        t->changed_inner = 0;
+        t->round_res = 0;
+        if (t->p0 == t->p1 || !(first || t->has_active))
+            continue;
+        tasks++;
+#pragma omp task default(shared) firstprivate(t) depend(inout : m->dep[ti])
+        tile_task(e, m, t, first);
+    }
+    for (size_t k = 0; k < m->nedges; k++) {
+        const dedge *ed = &m->edges[k];
+        m->edge_res[k] = 0;
+        if (!edge_has_work(m, ed))
+            continue;
+        tasks++;
+#pragma omp task default(shared) firstprivate(k) \
+    depend(inout : m->dep[ed->a]) depend(inout : m->dep[ed->b])
+        edge_task(e, m, k, first);
+    }
+    return tasks;
+}
+
+static uint64_t round_total(dmodel *m)
+{
+    uint64_t res = 0;
+    for (uint32_t ti = 0; ti < m->ntiles; ti++) {
+        dtile *t = &m->tiles[ti];
+        res += t->round_res;
+        t->changed_cross_prev = t->changed_cross_cur;
+        t->changed_cross_cur = 0;
+    }
+    for (size_t k = 0; k < m->nedges; k++)
+        res += m->edge_res[k];
+    return res;
+}
+
+__attribute__((noinline)) void discrete_resolve(psim_sim *e, dmodel *m)
+{
+    uint64_t rounds = 0, tasks = 0;
+    for (uint32_t ti = 0; ti < m->ntiles; ti++) {
+        dtile *t = &m->tiles[ti];
+        t->checks = t->pair_res = t->wall_res = 0;
+        t->has_active = t->changed_cross_prev = t->changed_cross_cur = 0;
+    }
+#pragma omp parallel num_threads(e->threads)
+#pragma omp single
+    {
+        for (int first = 1;; first = 0) {
+            tasks += emit_round(e, m, first);
+#pragma omp taskwait
+            rounds++;
+            if (round_total(m) == 0)
+                break;
+        }
+    }
+    for (uint32_t ti = 0; ti < m->ntiles; ti++) {
+        const dtile *t = &m->tiles[ti];
+        e->stats.pair_checks += t->checks;
+        e->stats.pair_resolutions += t->pair_res;
+        e->stats.wall_resolutions += t->wall_res;
+    }
+    e->stats.rounds += rounds;
+    if (rounds > e->stats.max_rounds)
+        e->stats.max_rounds = rounds;
+    e->stats.tasks += tasks;
+}
