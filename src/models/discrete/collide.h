@@ -49,7 +49,7 @@ static inline void psim_pair_resolve(double dot, double dx, double dy,
                                      double d2, double *vx1, double *vy1,
                                      double *vx2, double *vy2)
 {
-    double s = fmin(dot, 0.0) / d2;
+    double s = (0.0 < dot ? 0.0 : dot) / d2; /* std::min(dot, 0.0) */
     *vx1 += s * dx;
     *vy1 += s * dy;
     *vx2 -= s * dx;
