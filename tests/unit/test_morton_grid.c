@@ -1,1 +1,94 @@
-int main(void){return 0;}
+/* Morton keys and the grid: ranks, tiles, clamping of disks outside. */
+#include <stdlib.h>
+
+#include "check.h"
+#include "engine/grid.h"
+#include "engine/morton.h"
+
+static void test_morton(void)
+{
+    CHECK(psim_morton_encode(0, 0) == 0);
+    CHECK(psim_morton_encode(1, 0) == 1);
+    CHECK(psim_morton_encode(0, 1) == 2);
+    CHECK(psim_morton_encode(1, 1) == 3);
+    CHECK(psim_morton_encode(2, 0) == 4);
+    CHECK(psim_morton_encode(3, 5) == 0x27); /* x=011 y=101 -> 100111 */
+    for (uint32_t x = 0; x < 300; x += 7)
+        for (uint32_t y = 0; y < 300; y += 11) {
+            uint32_t a, b;
+            psim_morton_decode(psim_morton_encode(x, y), &a, &b);
+            CHECK(a == x && b == y);
+        }
+    uint32_t a, b;
+    psim_morton_decode(psim_morton_encode(0xFFFFFFFFu, 12345), &a, &b);
+    CHECK(a == 0xFFFFFFFFu && b == 12345);
+}
+
+static void test_grid_ranks(void)
+{
+    psim_grid g;
+    /* L / 2r = 50 cells would fit; 10000 particles allow up to 200 */
+    CHECK(psim_grid_init(&g, 100.0, 1.0, 10000, 4) == 0);
+    CHECK(g.G == 49 || g.G == 50);
+    CHECK(g.h > 2.0);
+    /* ranks are a permutation that follows Morton order */
+    uint64_t prev = 0;
+    for (uint32_t c = 0; c < g.ncells; c++) {
+        uint64_t key = psim_morton_encode((uint32_t)g.cell_x[c], (uint32_t)g.cell_y[c]);
+        CHECK(c == 0 || key > prev);
+        prev = key;
+        CHECK(g.rank_of_xy[g.cell_y[c] * g.G + g.cell_x[c]] == c);
+    }
+    /* tiles: 4 x 4 cells, contiguous rank ranges in tile order */
+    CHECK(g.tile_shift == 2);
+    CHECK(g.TG == (g.G + 3) / 4);
+    CHECK(g.tile_cell0[0] == 0 && g.tile_cell0[g.ntiles] == g.ncells);
+    for (uint32_t t = 0; t < g.ntiles; t++) {
+        CHECK(g.tile_cell0[t] < g.tile_cell0[t + 1]);
+        for (uint32_t c = g.tile_cell0[t]; c < g.tile_cell0[t + 1]; c++)
+            CHECK(psim_grid_tile_of_cell(&g, c) == t);
+        int border = g.tile_x[t] == 0 || g.tile_y[t] == 0 ||
+                     g.tile_x[t] == g.TG - 1 || g.tile_y[t] == g.TG - 1;
+        CHECK(g.tile_wall[t] == border);
+    }
+    psim_grid_free(&g);
+}
+
+static void test_grid_clamp(void)
+{
+    psim_grid g;
+    CHECK(psim_grid_init(&g, 10.0, 1.0, 100, 0) == 0);
+    CHECK(g.G == 4); /* side 2.5 > 2r */
+    CHECK(psim_grid_coord(&g, -5.0) == 0);
+    CHECK(psim_grid_coord(&g, -1e300) == 0);
+    CHECK(psim_grid_coord(&g, 0.0 / 0.0) == 0);
+    CHECK(psim_grid_coord(&g, 1e300) == g.G - 1);
+    CHECK(psim_grid_coord(&g, 10.0) == g.G - 1);
+    CHECK(psim_grid_coord(&g, 2.4) == 0);
+    CHECK(psim_grid_coord(&g, 2.6) == 1);
+    /* disks within 2r are never more than one cell apart, also outside */
+    double xs[] = {-7.0, -1.5, -0.1, 0.0, 1.9, 2.5, 4.9, 7.4, 9.99, 10.0, 11.5, 30.0};
+    for (size_t i = 0; i < sizeof xs / sizeof xs[0]; i++)
+        for (double d = -2.0; d <= 2.0; d += 0.125) {
+            int a = psim_grid_coord(&g, xs[i]), b = psim_grid_coord(&g, xs[i] + d);
+            CHECK(abs(a - b) <= 1);
+        }
+    psim_grid_free(&g);
+
+    /* a huge sparse box: cells capped by the particle count */
+    CHECK(psim_grid_init(&g, 1e9, 0.5, 100, 0) == 0);
+    CHECK(g.G <= 20);
+    psim_grid_free(&g);
+    /* radius larger than the box: one cell */
+    CHECK(psim_grid_init(&g, 1.0, 5.0, 100, 0) == 0);
+    CHECK(g.G == 1 && g.ntiles == 1);
+    psim_grid_free(&g);
+}
+
+int main(void)
+{
+    test_morton();
+    test_grid_ranks();
+    test_grid_clamp();
+    return check_done();
+}
