@@ -11,31 +11,31 @@
 
 static const int half_stencil[4][2] = {{1, 0}, {-1, 1}, {0, 1}, {1, 1}};
 
-static int push(dlist *l, int32_t i, int32_t j, double dx, double dy, double d2)
-{
-    if (l->n == l->cap &&
-        psim_reserve((void **)&l->c, &l->cap, l->n + 1, sizeof *l->c))
-        return -1;
-    l->c[l->n++] = (dcontact){i, j, dx, dy, d2};
-    return 0;
-}
-
+/* All pairs (i in cell ca, j in cell cb) at distance <= 2r, appended to
+ * *to.  Room for every candidate is made first, so the append is
+ * branch-free: the overlap test only decides whether the count advances. */
 static int scan_cells(const psim_sim *e, const dmodel *m, uint32_t ca,
                       uint32_t cb, dlist *to, int same)
 {
     const psim_grid *g = &e->grid;
     const double *x = e->st.x, *y = e->st.y;
+    const double four_r2 = m->four_r2;
     uint32_t a0 = g->cellstart[ca], a1 = g->cellstart[ca + 1];
     uint32_t b0 = g->cellstart[cb], b1 = g->cellstart[cb + 1];
+    size_t most = (size_t)(a1 - a0) * (b1 - b0);
+    if (psim_reserve((void **)&to->c, &to->cap, to->n + most, sizeof *to->c))
+        return -1;
+    dcontact *out = to->c;
+    size_t n = to->n;
     for (uint32_t i = a0; i < a1; i++) {
+        const double xi = x[i], yi = y[i];
         for (uint32_t j = same ? i + 1 : b0; j < b1; j++) {
-            double dx = x[j] - x[i], dy = y[j] - y[i];
-            double d2 = dx * dx + dy * dy;
-            if (psim_overlaps(d2, m->four_r2) &&
-                push(to, (int32_t)i, (int32_t)j, dx, dy, d2))
-                return -1;
+            double dx = x[j] - xi, dy = y[j] - yi;
+            out[n] = (dcontact){(int32_t)i, (int32_t)j};
+            n += psim_overlaps(dx * dx + dy * dy, four_r2);
         }
     }
+    to->n = n;
     return 0;
 }
 
@@ -56,8 +56,8 @@ static int build_adjacency(dtile *t)
     /* fill using adj0[k] as a cursor, then shift back */
     for (size_t k = 0; k < t->in.n; k++) {
         const dcontact *c = &t->in.c[k];
-        t->adj[t->adj0[c->i - t->p0]++] = (dadj){c->j, c->dx, c->dy, c->d2};
-        t->adj[t->adj0[c->j - t->p0]++] = (dadj){c->i, -c->dx, -c->dy, c->d2};
+        t->adj[t->adj0[c->i - t->p0]++] = c->j;
+        t->adj[t->adj0[c->j - t->p0]++] = c->i;
     }
     for (size_t k = n; k > 0; k--)
         t->adj0[k] = t->adj0[k - 1];

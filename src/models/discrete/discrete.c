@@ -52,7 +52,7 @@ static void destroy(void *p)
     psim_free(m->edges);
     psim_free(m->edge_res);
     psim_free(m->active);
-    psim_free(m->inq);
+    psim_free(m->flag);
     psim_free(m->dep);
     free(m);
 }
@@ -66,9 +66,9 @@ static void *create(psim_sim *e, psim_error *err)
     m->four_r2 = 4.0 * e->r * e->r;
     m->tiles = psim_calloc(m->ntiles * sizeof *m->tiles);
     m->active = psim_calloc((size_t)e->n + 1);
-    m->inq = psim_calloc((size_t)e->n + 1);
+    m->flag = psim_calloc((size_t)e->n + 1);
     m->dep = psim_calloc(m->ntiles);
-    if (!m->tiles || !m->active || !m->inq || !m->dep || build_edges(&e->grid, m))
+    if (!m->tiles || !m->active || !m->flag || !m->dep || build_edges(&e->grid, m))
         goto oom;
     return m;
 oom:

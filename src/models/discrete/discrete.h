@@ -21,17 +21,13 @@
 
 #include "../../engine/engine.h"
 
-/* A contact: disks i < j (store order) and dp = p_j - p_i. */
+/* A contact: disks i < j in store order.  Positions are frozen while
+ * collisions are resolved, so dp = p_j - p_i is recomputed from them when
+ * needed (the same bits every time) instead of being stored: 8 bytes a
+ * contact, 4 per adjacency entry. */
 typedef struct dcontact {
     int32_t i, j;
-    double dx, dy, d2;
 } dcontact;
-
-/* One entry of a disk's contact list inside its tile. */
-typedef struct dadj {
-    int32_t j;
-    double dx, dy, d2;
-} dadj;
 
 /* Tile-neighbour directions: (dx+1) + 3 (dy+1); 4 is the tile itself. */
 #define DIRS 9
@@ -48,7 +44,7 @@ typedef struct __attribute__((aligned(64))) dtile {
     dlist cross[DIRS];          /* contacts found here that reach tile d */
     uint32_t *adj0;             /* CSR of the inside contacts */
     size_t adj0_cap;
-    dadj *adj;
+    int32_t *adj;
     size_t adj_cap;
     uint32_t *queue;
     size_t queue_cap;
@@ -73,7 +69,7 @@ typedef struct dmodel {
     size_t nedges;
     uint64_t *edge_res; /* per edge, this round */
     uint8_t *active;    /* per particle: changed by an edge task */
-    uint8_t *inq;       /* per particle: in its tile's worklist */
+    uint8_t *flag;      /* per particle: worklist state (resolve.c) */
     char *dep;          /* one dependence object per tile */
     double four_r2;
 } dmodel;

@@ -5,70 +5,94 @@
 #include "collide.h"
 #include "discrete.h"
 
+/* Per-disk flags while resolving. */
+enum { F_QUEUED = 1, F_CHANGED = 2, F_SEEN = 4 };
+
 typedef struct wl {
     uint32_t *q;
     uint32_t cap, head, count;
 } wl;
 
-static inline void wl_push(wl *w, uint8_t *inq, uint32_t i)
+static inline void wl_push(wl *w, uint8_t *flag, uint32_t i)
 {
-    if (inq[i])
+    if (flag[i] & F_QUEUED)
         return;
-    inq[i] = 1;
+    flag[i] |= F_QUEUED;
     uint32_t at = w->head + w->count++;
     w->q[at >= w->cap ? at - w->cap : at] = i;
 }
 
-static inline uint32_t wl_pop(wl *w, uint8_t *inq)
+static inline uint32_t wl_pop(wl *w)
 {
     uint32_t i = w->q[w->head];
     w->head = (w->head + 1 == w->cap) ? 0 : w->head + 1;
     w->count--;
-    inq[i] = 0;
     return i;
 }
 
-/* Worklist fixpoint over the contacts inside tile t (and its walls). */
+/* Worklist fixpoint over the contacts inside tile t (and its walls).
+ *
+ * A pair needs a test only when one of its disks changed velocity since the
+ * pair was last tested.  A disk popped with F_CHANGED tests all its
+ * contacts; a disk popped unchanged tests only contacts with disks not yet
+ * popped this step (F_SEEN), because every other pair was tested at the
+ * later disk's last pop and a disk that changed since is queued again. */
 static void tile_task(const psim_sim *e, dmodel *m, dtile *t, int first)
 {
     double *restrict vx = e->st.vx, *restrict vy = e->st.vy;
     const double *x = e->st.x, *y = e->st.y;
     const double L = e->L, r = e->r;
     const int walls = e->grid.tile_wall[t - m->tiles];
-    uint8_t *inq = m->inq, *act = m->active;
+    uint8_t *restrict flag = m->flag, *act = m->active;
     wl w = {t->queue, t->p1 - t->p0, 0, 0};
     uint64_t checks = 0, pres = 0, wres = 0;
 
     for (uint32_t i = t->p0; i < t->p1; i++) {
-        if (first || act[i]) {
+        if (first) {
+            flag[i] = 0;
+            wl_push(&w, flag, i);
+        } else if (act[i]) {
             act[i] = 0;
-            wl_push(&w, inq, i);
+            flag[i] |= F_CHANGED;
+            wl_push(&w, flag, i);
         }
     }
     t->has_active = 0;
     while (w.count) {
-        uint32_t i = wl_pop(&w, inq);
-        if (walls && psim_wall_collides(x[i], y[i], vx[i], vy[i], L, r)) {
-            psim_wall_resolve(x[i], y[i], &vx[i], &vy[i], L, r);
+        uint32_t i = wl_pop(&w);
+        int full = flag[i] & F_CHANGED, changed = 0;
+        flag[i] = F_SEEN;
+        const double xi = x[i], yi = y[i];
+        double vxi = vx[i], vyi = vy[i];
+        if (walls && psim_wall_collides(xi, yi, vxi, vyi, L, r)) {
+            psim_wall_resolve(xi, yi, &vxi, &vyi, L, r);
             wres++;
+            full = 1;
         }
-        int changed = 0;
-        const dadj *a = t->adj + t->adj0[i - t->p0];
-        const dadj *end = t->adj + t->adj0[i - t->p0 + 1];
-        checks += (uint64_t)(end - a);
+        const int32_t *a = t->adj + t->adj0[i - t->p0];
+        const int32_t *end = t->adj + t->adj0[i - t->p0 + 1];
         for (; a < end; a++) {
-            uint32_t j = (uint32_t)a->j;
-            double dot = psim_approach(a->dx, a->dy, vx[j] - vx[i], vy[j] - vy[i]);
+            uint32_t j = (uint32_t)*a;
+            if (!full && (flag[j] & F_SEEN))
+                continue;
+            checks++;
+            double dx = x[j] - xi, dy = y[j] - yi;
+            double dot = psim_approach(dx, dy, vx[j] - vxi, vy[j] - vyi);
             if (psim_moving_closer(dot)) {
-                psim_pair_resolve(dot, a->dx, a->dy, a->d2, &vx[i], &vy[i],
+                psim_pair_resolve(dot, dx, dy, dx * dx + dy * dy, &vxi, &vyi,
                                   &vx[j], &vy[j]);
                 changed = 1;
                 pres++;
-                wl_push(&w, inq, j);
+                flag[j] |= F_CHANGED;
+                wl_push(&w, flag, j);
             }
         }
-        if (changed)
-            wl_push(&w, inq, i);
+        vx[i] = vxi;
+        vy[i] = vyi;
+        if (changed) {
+            flag[i] |= F_CHANGED;
+            wl_push(&w, flag, i);
+        }
     }
     t->checks += checks;
     t->wall_res += wres;
@@ -82,13 +106,14 @@ static uint64_t cross_pass(const psim_sim *e, dmodel *m, const dlist *l,
                            uint64_t *checks)
 {
     double *restrict vx = e->st.vx, *restrict vy = e->st.vy;
+    const double *x = e->st.x, *y = e->st.y;
     uint64_t res = 0;
     for (size_t k = 0; k < l->n; k++) {
         const dcontact *c = &l->c[k];
-        double dot = psim_approach(c->dx, c->dy, vx[c->j] - vx[c->i],
-                                   vy[c->j] - vy[c->i]);
+        double dx = x[c->j] - x[c->i], dy = y[c->j] - y[c->i];
+        double dot = psim_approach(dx, dy, vx[c->j] - vx[c->i], vy[c->j] - vy[c->i]);
         if (psim_moving_closer(dot)) {
-            psim_pair_resolve(dot, c->dx, c->dy, c->d2, &vx[c->i], &vy[c->i],
+            psim_pair_resolve(dot, dx, dy, dx * dx + dy * dy, &vx[c->i], &vy[c->i],
                               &vx[c->j], &vy[c->j]);
             m->active[c->i] = 1;
             m->active[c->j] = 1;
