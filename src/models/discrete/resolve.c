@@ -153,6 +153,15 @@ static int edge_has_work(const dmodel *m, const dedge *ed)
     return m->tiles[ed->a].cross[ed->dir].n + m->tiles[ed->b].cross[DIR_OPP(ed->dir)].n > 0;
 }
 
+/* An edge can only find work if a tile task runs on one of its tiles this
+ * round or edges changed one of them last round. */
+static int edge_may_change(const dmodel *m, const dedge *ed, int first)
+{
+    const dtile *a = &m->tiles[ed->a], *b = &m->tiles[ed->b];
+    return first || a->scheduled || b->scheduled || a->changed_cross_prev ||
+           b->changed_cross_prev;
+}
+
 /* Emit one round's task graph; returns the number of tasks. */
 static uint64_t emit_round(const psim_sim *e, dmodel *m, int first)
 {
@@ -161,7 +170,11 @@ static uint64_t emit_round(const psim_sim *e, dmodel *m, int first)
         dtile *t = &m->tiles[ti];
         t->changed_inner = 0;
         t->round_res = 0;
-        if (t->p0 == t->p1 || !(first || t->has_active))
+        t->scheduled = t->p0 != t->p1 && (first || t->has_active);
+    }
+    for (uint32_t ti = 0; ti < m->ntiles; ti++) {
+        dtile *t = &m->tiles[ti];
+        if (!t->scheduled)
             continue;
         tasks++;
 #pragma omp task default(shared) firstprivate(t) depend(inout : m->dep[ti])
@@ -170,7 +183,7 @@ static uint64_t emit_round(const psim_sim *e, dmodel *m, int first)
     for (size_t k = 0; k < m->nedges; k++) {
         const dedge *ed = &m->edges[k];
         m->edge_res[k] = 0;
-        if (!edge_has_work(m, ed))
+        if (!edge_has_work(m, ed) || !edge_may_change(m, ed, first))
             continue;
         tasks++;
 #pragma omp task default(shared) firstprivate(k) \
