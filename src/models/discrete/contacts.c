@@ -119,4 +119,5 @@ __attribute__((noinline)) void discrete_find_contacts(psim_sim *e, dmodel *m)
             found += m->tiles[t].cross[d].n;
     }
     e->stats.contacts += found;
+    m->step_contacts = found;
 }

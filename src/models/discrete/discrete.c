@@ -99,7 +99,15 @@ static int interact(psim_sim *e, void *p, psim_error *err)
                            e->step + 1);
             return -1;
         }
-    PSIM_TIMED(e, PSIM_PHASE_RESOLVE, discrete_resolve(e, m));
+    int rc;
+    PSIM_TIMED(e, PSIM_PHASE_RESOLVE, rc = discrete_resolve(e, m));
+    if (rc) {
+        psim_error_set(err,
+            "step %ld: collisions did not settle within %d resolutions per "
+            "contact; the scene is too dense for the discrete model's fixpoint",
+            e->step + 1, SETTLE_LIMIT);
+        return -1;
+    }
     return 0;
 }
 

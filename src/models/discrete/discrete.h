@@ -56,6 +56,7 @@ typedef struct __attribute__((aligned(64))) dtile {
     uint8_t changed_cross_prev; /* edge tasks changed it last round */
     uint8_t changed_cross_cur;  /* edge tasks changed it this round */
     uint8_t oom;
+    uint8_t diverged;           /* a task ran past its resolution budget */
 } dtile;
 
 typedef struct dedge {
@@ -73,10 +74,18 @@ typedef struct dmodel {
     uint8_t *flag;      /* per particle: worklist state (resolve.c) */
     char *dep;          /* one dependence object per tile */
     double four_r2;
+    uint64_t step_contacts;  /* contacts found this step */
 } dmodel;
 
+/* A step's collisions must settle within this many resolutions per contact
+ * (and per disk, for walls); dense scenes need about 10.  Past it the
+ * fixpoint is taken not to converge and the run stops with an error
+ * instead of hanging. */
+#define SETTLE_LIMIT 1000
+
 void discrete_find_contacts(psim_sim *e, dmodel *m);
-void discrete_resolve(psim_sim *e, dmodel *m);
+/* Returns 0, or -1 when collisions did not settle (SETTLE_LIMIT). */
+int discrete_resolve(psim_sim *e, dmodel *m);
 int discrete_check(psim_sim *e, void *m, const psim_snapshot *before,
                    const psim_snapshot *after, psim_error *err);
 

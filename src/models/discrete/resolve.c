@@ -46,6 +46,7 @@ static void tile_task(const psim_sim *e, dmodel *m, dtile *t, int first)
     uint8_t *restrict flag = m->flag, *act = m->active;
     wl w = {t->queue, t->p1 - t->p0, 0, 0};
     uint64_t checks = 0, pres = 0, wres = 0;
+    const uint64_t budget = SETTLE_LIMIT * ((uint64_t)t->in.n + (t->p1 - t->p0));
 
     for (uint32_t i = t->p0; i < t->p1; i++) {
         if (first) {
@@ -59,6 +60,10 @@ static void tile_task(const psim_sim *e, dmodel *m, dtile *t, int first)
     }
     t->has_active = 0;
     while (w.count) {
+        if (pres + wres > budget) {
+            t->diverged = 1;
+            break;
+        }
         uint32_t i = wl_pop(&w);
         int full = flag[i] & F_CHANGED, changed = 0;
         flag[i] = F_SEEN;
@@ -135,9 +140,14 @@ static void edge_task(const psim_sim *e, dmodel *m, size_t k, int first)
         return;
     const dlist *la = &a->cross[ed->dir], *lb = &b->cross[DIR_OPP(ed->dir)];
     uint64_t total = 0, res, checks = 0;
+    const uint64_t budget = SETTLE_LIMIT * (uint64_t)(la->n + lb->n);
     do {
         res = cross_pass(e, m, la, &checks) + cross_pass(e, m, lb, &checks);
         total += res;
+        if (total > budget) {
+            a->diverged = 1;
+            break;
+        }
     } while (res);
     a->checks += checks;
     a->pair_res += total;
@@ -207,13 +217,24 @@ static uint64_t round_total(dmodel *m)
     return res;
 }
 
-__attribute__((noinline)) void discrete_resolve(psim_sim *e, dmodel *m)
+static int any_diverged(const dmodel *m)
 {
-    uint64_t rounds = 0, tasks = 0;
+    for (uint32_t ti = 0; ti < m->ntiles; ti++)
+        if (m->tiles[ti].diverged)
+            return 1;
+    return 0;
+}
+
+__attribute__((noinline)) int discrete_resolve(psim_sim *e, dmodel *m)
+{
+    uint64_t rounds = 0, tasks = 0, total = 0;
+    const uint64_t budget = SETTLE_LIMIT * (m->step_contacts + (uint64_t)e->n);
+    int settled = 1;
     for (uint32_t ti = 0; ti < m->ntiles; ti++) {
         dtile *t = &m->tiles[ti];
         t->checks = t->pair_res = t->wall_res = 0;
         t->has_active = t->changed_cross_prev = t->changed_cross_cur = 0;
+        t->diverged = 0;
     }
 #pragma omp parallel num_threads(e->threads)
 #pragma omp single
@@ -222,7 +243,13 @@ __attribute__((noinline)) void discrete_resolve(psim_sim *e, dmodel *m)
             tasks += emit_round(e, m, first);
 #pragma omp taskwait
             rounds++;
-            if (round_total(m) == 0)
+            uint64_t res = round_total(m);
+            total += res;
+            if (any_diverged(m) || total > budget) {
+                settled = 0;
+                break;
+            }
+            if (res == 0)
                 break;
         }
     }
@@ -236,4 +263,5 @@ __attribute__((noinline)) void discrete_resolve(psim_sim *e, dmodel *m)
     if (rounds > e->stats.max_rounds)
         e->stats.max_rounds = rounds;
     e->stats.tasks += tasks;
+    return settled ? 0 : -1;
 }
