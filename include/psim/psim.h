@@ -126,9 +126,14 @@ void psim_destroy(psim_sim *s);
 
 /* ---- output -------------------------------------------------------------- */
 
-/* Format v: digits < 0 gives the shortest text that reads back to the same
- * double; digits >= 0 gives fixed notation with that many decimals and no
- * negative zero.  Returns the length written (buf of at least 64 bytes). */
+/* Room for any double: 309 integer digits, sign, point, 30 decimals. */
+#define PSIM_FORMAT_MAX 352
+#define PSIM_DIGITS_MAX 30
+
+/* Format v into buf (PSIM_FORMAT_MAX bytes): digits < 0 gives the shortest
+ * text that reads back to the same double; 0 <= digits <= PSIM_DIGITS_MAX
+ * gives fixed notation with that many decimals and no negative zero.
+ * Returns the length written. */
 int psim_format_double(char *buf, double v, int digits);
 
 /* Write lines "STEP i x y vx vy" for every particle in id order. */

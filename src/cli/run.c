@@ -66,7 +66,7 @@ static int parse_run(int argc, char **argv, run_opts *o)
         case 's': if (cli_long("--steps", optarg, 0, 1000000000L, &o->steps)) return 2; break;
         case 'o': o->out = optarg; break;
         case 'T': o->trace = optarg; break;
-        case 'd': if (cli_long("--digits", optarg, 0, 30, &o->digits)) return 2; break;
+        case 'd': if (cli_long("--digits", optarg, 0, PSIM_DIGITS_MAX, &o->digits)) return 2; break;
         case 'c': o->check = 1; break;
         case 'S': o->stats = optarg; break;
         case 'L':

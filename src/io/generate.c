@@ -138,6 +138,11 @@ int psim_scene_generate(const psim_gen_params *p, psim_scene *sc,
                             "S >= 0 and finite vmin <= vmax");
         return -1;
     }
+    if (!(2 * p->r < p->L)) {
+        psim_error_set(err, "radius r = %g does not fit in the box: 2r must be less "
+                            "than L = %g", p->r, p->L);
+        return -1;
+    }
     if (psim_scene_alloc(sc, p->n, err))
         return -1;
     sc->L = p->L;

@@ -119,6 +119,12 @@ static int read_header(reader *rd, psim_scene *sc, psim_error *err)
                        rd->name, rd->line, r);
         return -1;
     }
+    if (!(2 * r < L)) {
+        /* a disk touching both walls could never resolve its wall collision */
+        psim_error_set(err, "%s:%ld: radius r = %g does not fit in the box: 2r must "
+                       "be less than L = %g", rd->name, rd->line, r, L);
+        return -1;
+    }
     if (header_value(rd, "the step count S", 1, &S, err))
         return -1;
     if (S < 0) {

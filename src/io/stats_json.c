@@ -26,7 +26,7 @@ int psim_write_stats_json(FILE *f, const psim_sim *e, const char *scene_name,
                           double total_s)
 {
     const psim_stats *s = &e->stats;
-    char L[64], r[64];
+    char L[PSIM_FORMAT_MAX], r[PSIM_FORMAT_MAX];
     psim_format_double(L, e->L, -1);
     psim_format_double(r, e->r, -1);
     fprintf(f, "{\n  \"psim_version\": \"%s\",\n  \"model\": \"%s\",\n  \"scene\": ",

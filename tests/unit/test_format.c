@@ -8,7 +8,7 @@
 
 int main(void)
 {
-    char buf[64];
+    char buf[PSIM_FORMAT_MAX];
     psim_format_double(buf, 3.0, -1);
     CHECK(strcmp(buf, "3") == 0);
     psim_format_double(buf, 0.1, -1);
@@ -39,5 +39,13 @@ int main(void)
     CHECK(strcmp(buf, "0.000") == 0);
     psim_format_double(buf, -12.25, 1);
     CHECK(strcmp(buf, "-12.2") == 0 || strcmp(buf, "-12.3") == 0);
+    /* the widest numbers fit whole */
+    int len = psim_format_double(buf, -1.7976931348623157e308, PSIM_DIGITS_MAX);
+    CHECK(len == 1 + 309 + 1 + PSIM_DIGITS_MAX && (int)strlen(buf) == len);
+    CHECK(strtod(buf, NULL) == -1.7976931348623157e308);
+    psim_format_double(buf, 1e60, 8);
+    CHECK(strcmp(buf + strlen(buf) - 9, ".00000000") == 0);
+    psim_format_double(buf, -4.9e-324, -1);
+    CHECK(strtod(buf, NULL) == -4.9e-324);
     return check_done();
 }

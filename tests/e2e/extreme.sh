@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# Stiff and extreme scenes: a fixpoint that cannot settle stops with one
+# clear line instead of hanging; empty, single-disk, huge-radius, far-away
+# and very fast scenes run and pass --check.
+set -euo pipefail
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+source "$(dirname "$0")/lib.sh" "$@"
+
+# 400 disks of radius 0.5 in a 10 x 10 box: density 3.1, everything
+# overlaps everything near it; the course's fixpoint does not settle.
+gen "$tmp/jam.in" --n 400 --L 10 --r 0.5 --steps 3 --seed 1
+expect_fail --rc 1 "did not settle" "$PSIM" --quiet --out "$tmp/jam.out" "$tmp/jam.in"
+[[ ! -e $tmp/jam.out ]] || fail "a run that did not settle left $tmp/jam.out"
+ls "$tmp" | grep -q tmp && fail "temporary output left behind"
+
+# a disk wider than the box would touch both walls: its wall collision could
+# never be resolved, so such a scene is refused
+printf '3\n10\n5\n4\n0 1 1 1 0\n1 5 5 0 1\n2 9 9 -1 -1\n' > "$tmp/wide.in"
+expect_fail --rc 1 "wide.in:3: radius r = 5 does not fit" "$PSIM" --quiet "$tmp/wide.in"
+
+# empty scene, one disk, a disk almost as wide as the box
+printf '0\n10\n1\n5\n' > "$tmp/empty.in"
+run_ok "$PSIM" --check --quiet --out "$tmp/empty.out" "$tmp/empty.in"
+[[ -e $tmp/empty.out && ! -s $tmp/empty.out ]] || fail "empty scene should give an empty state file"
+printf '1\n10\n1\n7\n0 5 5 0.75 -2.5\n' > "$tmp/one.in"
+run_ok "$PSIM" --check --quiet --out "$tmp/one.out" "$tmp/one.in"
+[[ $(wc -l < "$tmp/one.out") -eq 1 ]] || fail "one disk, one line"
+printf '2\n10\n4.9\n4\n0 1 5 1 0\n1 7 5 0 1\n' > "$tmp/huge.in"
+run_ok "$PSIM" --check --quiet "$tmp/huge.in"
+# three such disks overlap each other and the walls: the fixpoint cycles
+# (a plain implementation of the course's rules never returns here)
+printf '3\n10\n4\n4\n0 1 1 1 0\n1 5 5 0 1\n2 9 9 -1 -1\n' > "$tmp/cycle.in"
+expect_fail --rc 1 "step 1: collisions did not settle" "$PSIM" --quiet "$tmp/cycle.in"
+
+# very fast disks far outside the box, tiny radius
+gen "$tmp/fast.in" --n 500 --L 1000 --r 0.01 --steps 20 --vmin -1e6 --vmax 1e6 --seed 5
+run_ok "$PSIM" --check --quiet --trace "$tmp/fast.trace" "$tmp/fast.in"
+python3 - "$tmp/fast.trace" <<'PY' || fail "fast disks should leave the box"
+import sys
+far = sum(1 for l in open(sys.argv[1]) if abs(float(l.split()[2])) > 1e5)
+sys.exit(0 if far > 100 else 1)
+PY
+
+# stiff: a dense pile moving fast into one corner, many tiles
+gen "$tmp/stiff.in" --n 1500 --r 1 --density 0.85 --steps 15 --vmin 5 --vmax 20 --seed 9
+run_ok "$PSIM" --check --quiet --tile 2 --threads 3 "$tmp/stiff.in"
+echo "extreme: ok"
