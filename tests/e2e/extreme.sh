@@ -18,14 +18,14 @@ ls "$tmp" | grep -q tmp && fail "temporary output left behind"
 printf '3\n10\n5\n4\n0 1 1 1 0\n1 5 5 0 1\n2 9 9 -1 -1\n' > "$tmp/wide.in"
 expect_fail --rc 1 "wide.in:3: radius r = 5 does not fit" "$PSIM" --quiet "$tmp/wide.in"
 
-# empty scene, one disk, a disk almost as wide as the box
+# empty scene, one disk, two big disks that overlap each other and the walls
 printf '0\n10\n1\n5\n' > "$tmp/empty.in"
 run_ok "$PSIM" --check --quiet --out "$tmp/empty.out" "$tmp/empty.in"
 [[ -e $tmp/empty.out && ! -s $tmp/empty.out ]] || fail "empty scene should give an empty state file"
 printf '1\n10\n1\n7\n0 5 5 0.75 -2.5\n' > "$tmp/one.in"
 run_ok "$PSIM" --check --quiet --out "$tmp/one.out" "$tmp/one.in"
 [[ $(wc -l < "$tmp/one.out") -eq 1 ]] || fail "one disk, one line"
-printf '2\n10\n4.9\n4\n0 1 5 1 0\n1 7 5 0 1\n' > "$tmp/huge.in"
+printf '2\n10\n3\n4\n0 3 3 1 0\n1 7 7 0 1\n' > "$tmp/huge.in"
 run_ok "$PSIM" --check --quiet "$tmp/huge.in"
 # three such disks overlap each other and the walls: the fixpoint cycles
 # (a plain implementation of the course's rules never returns here)
