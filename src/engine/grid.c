@@ -27,7 +27,7 @@ static int plan_tile_shift(int G, int bits, long n, int tile_cells)
         return shift;
     }
     double per_cell = (double)(n > 0 ? n : 1) / ((double)G * G);
-    double side = sqrt(1024.0 / per_cell);
+    double side = sqrt(PSIM_TILE_PARTICLES / per_cell);
     shift = (int)lround(log2(side));
     if (shift < 0)
         shift = 0;

@@ -12,6 +12,12 @@
 #define PSIM_ENGINE_GRID_H
 #include <stdint.h>
 
+/* Default tile size, in particles.  Each tile border costs extra
+ * resolutions on dense scenes (the fixpoint inside a tile runs against a
+ * stale border until the next round), so tiles are as large as parallelism
+ * allows: measured in docs/performance.md ("Tile size"). */
+#define PSIM_TILE_PARTICLES 16384.0
+
 typedef struct psim_grid {
     double L, h, invh;
     int G;                  /* cells per side */
@@ -31,7 +37,8 @@ typedef struct psim_grid {
 } psim_grid;
 
 /* Plan a grid for n disks of radius r in [0, L]^2.  tile_cells: cells per
- * tile side (a power of two), or 0 to choose ~1024 particles per tile. */
+ * tile side (a power of two), or 0 to choose about PSIM_TILE_PARTICLES
+ * particles per tile. */
 int psim_grid_init(psim_grid *g, double L, double r, long n, int tile_cells);
 void psim_grid_free(psim_grid *g);
 
