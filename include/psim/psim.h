@@ -141,9 +141,10 @@ int psim_write_state(FILE *f, long step, long n, const double *x,
                      const double *y, const double *vx, const double *vy,
                      int digits);
 
-/* Write the run's statistics as one JSON object.  scene_name may be NULL. */
+/* Write the run's statistics as one JSON object.  scene_name may be NULL;
+ * extra, if not NULL, holds more members ("key": value, ...) to include. */
 int psim_write_stats_json(FILE *f, const psim_sim *s, const char *scene_name,
-                          double total_s);
+                          double total_s, const char *extra);
 
 /* Name of the allocator psim was built with ("jemalloc" or "libc"). */
 const char *psim_allocator(void);

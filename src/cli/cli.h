@@ -3,8 +3,11 @@
 #define PSIM_CLI_H
 #include <stdio.h>
 
+#include "psim/topology.h"
+
 int cli_run(int argc, char **argv);   /* psim [OPTIONS] [SCENE [THREADS]] */
 int cli_gen(int argc, char **argv);   /* psim gen [OPTIONS] */
+int cli_plan(int argc, char **argv);  /* psim plan | psim topo */
 
 /* Strict number parsing for option values: print one error line and
  * return -1 when text is not a number in [lo, hi]. */
@@ -33,5 +36,25 @@ typedef struct progress {
 void progress_init(progress *p, long total, int quiet);
 void progress_update(progress *p, long done);
 void progress_done(progress *p);
+
+/* Pinning options shared by the run and plan commands. */
+enum { CLI_OPT_PIN = 1000, CLI_OPT_TOPOLOGY, CLI_OPT_MEM, CLI_OPT_DRY_RUN };
+
+typedef struct cli_pin {
+    psim_pin_policy policy;
+    const char *topology;
+    psim_mem_policy mem;
+    int dry_run;
+    psim_topo *topo;      /* loaded only when the options need it */
+    psim_pin_plan plan;
+    int *observed;        /* PU each thread was seen on after binding */
+} cli_pin;
+
+int cli_pin_option(cli_pin *p, int opt, const char *arg);
+/* Load, plan, set the memory policy and bind; -1 after printing an error. */
+int cli_pin_setup(cli_pin *p, int threads, int quiet);
+void cli_pin_summary(FILE *f, const cli_pin *p);
+char *cli_pin_json(const cli_pin *p);  /* malloc'd JSON members */
+void cli_pin_free(cli_pin *p);
 
 #endif

@@ -15,6 +15,7 @@ typedef struct run_opts {
     const char *scene, *out, *trace, *stats;
     long threads, steps, digits, tile;
     int check, quiet;
+    cli_pin pin;
 } run_opts;
 
 static void run_usage(FILE *f)
@@ -22,6 +23,8 @@ static void run_usage(FILE *f)
     fprintf(f,
 "usage: psim [OPTIONS] [SCENE [THREADS]]\n"
 "       psim gen [OPTIONS]            write a scene (psim gen --help)\n"
+"       psim plan [OPTIONS]           show where threads would run\n"
+"       psim topo [--topology FILE]   summarise the machine\n"
 "\n"
 "Run SCENE (CS3210 AY2024/25 format: N, L, r, S, then N lines 'i x y vx vy')\n"
 "with the discrete model.  Without SCENE, run the built-in default scene\n"
@@ -38,6 +41,11 @@ static void run_usage(FILE *f)
 "      --check       validate every step as the course's validator does\n"
 "      --stats FILE  write run statistics (phase times, counts) as JSON\n"
 "      --tile N      cells per tile side, a power of two (default: automatic)\n"
+"      --pin POLICY  bind threads with hwloc: pcores, ecores, cores, all,\n"
+"                    numa:K or none (default); see psim plan --help\n"
+"      --topology F  plan against the hwloc XML topology F of another machine\n"
+"      --mem POLICY  local (first touch, default) or interleave over NUMA nodes\n"
+"      --dry-run     print the thread placement and exit (as psim plan)\n"
 "  -q, --quiet       print nothing but errors\n"
 "  -h, --help        show this help\n"
 "  -V, --version     show the version\n"
@@ -54,7 +62,12 @@ static int parse_run(int argc, char **argv, run_opts *o)
         {"digits", required_argument, 0, 'd'},  {"check", no_argument, 0, 'c'},
         {"stats", required_argument, 0, 'S'},   {"tile", required_argument, 0, 'L'},
         {"quiet", no_argument, 0, 'q'},         {"help", no_argument, 0, 'h'},
-        {"version", no_argument, 0, 'V'},       {0, 0, 0, 0}};
+        {"version", no_argument, 0, 'V'},
+        {"pin", required_argument, 0, CLI_OPT_PIN},
+        {"topology", required_argument, 0, CLI_OPT_TOPOLOGY},
+        {"mem", required_argument, 0, CLI_OPT_MEM},
+        {"dry-run", no_argument, 0, CLI_OPT_DRY_RUN},
+        {0, 0, 0, 0}};
     memset(o, 0, sizeof *o);
     o->steps = -1;
     o->digits = -1;
@@ -77,6 +90,9 @@ static int parse_run(int argc, char **argv, run_opts *o)
             }
             break;
         case 'q': o->quiet = 1; break;
+        case CLI_OPT_PIN: case CLI_OPT_TOPOLOGY: case CLI_OPT_MEM: case CLI_OPT_DRY_RUN:
+            if (cli_pin_option(&o->pin, c, optarg)) return 2;
+            break;
         case 'h': run_usage(stdout); exit(0);
         case 'V': printf("psim %s (%s, OpenMP %d)\n", PSIM_VERSION, psim_allocator(), _OPENMP); exit(0);
         case ':':
@@ -200,6 +216,14 @@ int cli_run(int argc, char **argv)
     run_state rs = {0};
     psim_sim *s = NULL;
     rc = 1;
+    omp_set_dynamic(0);
+    if (cli_pin_setup(&o.pin, (int)o.threads, o.quiet))
+        goto done;
+    if (o.pin.dry_run) {
+        psim_pin_plan_print(stdout, o.pin.topo, &o.pin.plan);
+        rc = 0;
+        goto done;
+    }
     if (load_scene(&o, &sc, &err)) {
         fprintf(stderr, "psim: %s\n", err.msg);
         goto done;
@@ -215,10 +239,9 @@ int cli_run(int argc, char **argv)
         goto done;
     psim_config cfg;
     psim_config_default(&cfg);
-    cfg.threads = (int)o.threads;
+    cfg.threads = o.pin.plan.threads;
     cfg.tile_cells = (int)o.tile;
     cfg.check = o.check;
-    omp_set_dynamic(0);
     s = psim_create(&sc, &cfg, &err);
     if (!s) {
         fprintf(stderr, "psim: %s\n", err.msg);
@@ -235,15 +258,21 @@ int cli_run(int argc, char **argv)
         fprintf(stderr, "psim: %s: write failed\n", o.out);
         goto done;
     }
-    if (rs.stats.f)
-        psim_write_stats_json(rs.stats.f, s, o.scene ? o.scene : "default", secs);
+    if (rs.stats.f) {
+        char *pin_json = cli_pin_json(&o.pin);
+        psim_write_stats_json(rs.stats.f, s, o.scene ? o.scene : "default", secs, pin_json);
+        free(pin_json);
+    }
     if (outfile_commit(&rs.out) || outfile_commit(&rs.trace) || outfile_commit(&rs.stats))
         goto done;
-    if (!o.quiet)
+    if (!o.quiet) {
         print_summary(&o, &sc, s, secs);
+        cli_pin_summary(stdout, &o.pin);
+    }
     rc = 0;
 done:
     abort_outputs(&rs);
+    cli_pin_free(&o.pin);
     psim_destroy(s);
     psim_scene_free(&sc);
     free(rs.x), free(rs.y), free(rs.vx), free(rs.vy);

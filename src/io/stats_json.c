@@ -23,7 +23,7 @@ static void json_string(FILE *f, const char *s)
 }
 
 int psim_write_stats_json(FILE *f, const psim_sim *e, const char *scene_name,
-                          double total_s)
+                          double total_s, const char *extra)
 {
     const psim_stats *s = &e->stats;
     char L[PSIM_FORMAT_MAX], r[PSIM_FORMAT_MAX];
@@ -43,10 +43,11 @@ int psim_write_stats_json(FILE *f, const psim_sim *e, const char *scene_name,
                 s->phase_s[p]);
     fprintf(f, "},\n  \"contacts\": %llu,\n  \"rounds\": %llu,\n  \"max_rounds\": %llu,\n"
                "  \"pair_checks\": %llu,\n  \"pair_resolutions\": %llu,\n"
-               "  \"wall_resolutions\": %llu,\n  \"tasks\": %llu\n}\n",
+               "  \"wall_resolutions\": %llu,\n  \"tasks\": %llu%s\n%s}\n",
             (unsigned long long)s->contacts, (unsigned long long)s->rounds,
             (unsigned long long)s->max_rounds, (unsigned long long)s->pair_checks,
             (unsigned long long)s->pair_resolutions,
-            (unsigned long long)s->wall_resolutions, (unsigned long long)s->tasks);
+            (unsigned long long)s->wall_resolutions, (unsigned long long)s->tasks,
+            extra ? "," : "", extra ? extra : "");
     return ferror(f) ? -1 : 0;
 }

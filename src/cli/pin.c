@@ -1,0 +1,195 @@
+/* Pinning for the CLI: --pin, --topology, --mem, --dry-run; psim plan and
+ * psim topo. */
+#define _GNU_SOURCE
+#include <getopt.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <omp.h>
+
+#include "cli.h"
+#include "psim/topology.h"
+
+int cli_pin_setup(cli_pin *p, int threads, int quiet)
+{
+    psim_error err = {{0}};
+    memset(&p->plan, 0, sizeof p->plan);
+    p->plan.threads = threads > 0 ? threads : omp_get_max_threads();
+    int needed = p->policy.kind != PSIM_PIN_NONE || p->mem != PSIM_MEM_LOCAL ||
+                 p->topology || p->dry_run;
+    if (!needed)
+        return 0; /* no topology is loaded for a run that does not pin */
+    p->topo = psim_topo_load(p->topology, &err);
+    if (!p->topo || psim_pin_plan_make(p->topo, &p->policy, threads, &p->plan, &err)) {
+        fprintf(stderr, "psim: %s\n", err.msg);
+        return -1;
+    }
+    if (p->plan.threads <= 0)
+        p->plan.threads = omp_get_max_threads();
+    if (p->plan.notice[0] && !quiet)
+        fprintf(stderr, "psim: notice: %s\n", p->plan.notice);
+    if (p->dry_run)
+        return 0;
+    p->observed = calloc((size_t)p->plan.threads, sizeof *p->observed);
+    if (!p->observed) {
+        fprintf(stderr, "psim: out of memory\n");
+        return -1;
+    }
+    if (psim_mem_apply(p->topo, &p->plan, p->mem, &err) ||
+        psim_pin_apply(p->topo, &p->plan, p->observed, &err)) {
+        fprintf(stderr, "psim: %s\n", err.msg);
+        return -1;
+    }
+    return 0;
+}
+
+void cli_pin_free(cli_pin *p)
+{
+    psim_pin_plan_free(&p->plan);
+    psim_topo_free(p->topo);
+    free(p->observed);
+    p->topo = NULL;
+    p->observed = NULL;
+}
+
+/* "placement" as JSON members for --stats. */
+char *cli_pin_json(const cli_pin *p)
+{
+    char *s = NULL;
+    size_t len = 0;
+    FILE *f = open_memstream(&s, &len);
+    if (!f)
+        return NULL;
+    char name[32];
+    psim_pin_name(&p->policy, name, sizeof name);
+    fprintf(f, "  \"pin\": \"%s\",\n  \"placement\": [", name);
+    for (int k = 0; p->plan.slot && k < p->plan.threads; k++) {
+        const psim_pin_slot *s2 = &p->plan.slot[k];
+        fprintf(f, "%s\n    {\"thread\": %d, \"pu\": %d, \"observed_pu\": %d, \"core\": %d, "
+                   "\"kind\": \"%s\", \"numa\": %d}", k ? "," : "", k, s2->pu,
+                p->observed ? p->observed[k] : -1, s2->core,
+                psim_topo_kind_name(p->topo, s2->kind), s2->numa);
+    }
+    fprintf(f, "%s]\n", p->plan.slot ? "\n  " : "");
+    fclose(f);
+    return s;
+}
+
+void cli_pin_summary(FILE *f, const cli_pin *p)
+{
+    if (!p->plan.slot)
+        return;
+    char name[32];
+    int as_planned = 1;
+    fprintf(f, "  --pin=%s: thread->PU", psim_pin_name(&p->policy, name, sizeof name));
+    for (int k = 0; k < p->plan.threads; k++) {
+        fprintf(f, " %d->%d", k, p->observed ? p->observed[k] : -1);
+        as_planned &= p->observed && p->observed[k] == p->plan.slot[k].pu;
+    }
+    fprintf(f, "%s\n", as_planned ? " (as planned)"
+                                  : psim_topo_is_this_system(p->topo)
+                                        ? " (NOT as planned: see psim plan)"
+                                        : " (foreign topology: not bound)");
+}
+
+int cli_pin_option(cli_pin *p, int opt, const char *arg)
+{
+    psim_error err = {{0}};
+    switch (opt) {
+    case CLI_OPT_PIN:
+        if (psim_pin_parse(arg, &p->policy, &err)) {
+            fprintf(stderr, "psim: %s\n", err.msg);
+            return -1;
+        }
+        return 0;
+    case CLI_OPT_TOPOLOGY:
+        p->topology = arg;
+        return 0;
+    case CLI_OPT_MEM:
+        if (strcmp(arg, "local") == 0)
+            p->mem = PSIM_MEM_LOCAL;
+        else if (strcmp(arg, "interleave") == 0)
+            p->mem = PSIM_MEM_INTERLEAVE;
+        else {
+            fprintf(stderr, "psim: --mem: unknown policy '%s' (local, interleave)\n", arg);
+            return -1;
+        }
+        return 0;
+    case CLI_OPT_DRY_RUN:
+        p->dry_run = 1;
+        return 0;
+    }
+    return -1;
+}
+
+static void plan_usage(FILE *f, const char *cmd)
+{
+    if (strcmp(cmd, "topo") == 0)
+        fprintf(f, "usage: psim topo [--topology FILE.xml]\n\n"
+                   "Summarise the machine (or an hwloc XML topology): CPU kinds and their\n"
+                   "infos, cores, hardware threads, caches, NUMA nodes.\n");
+    else
+        fprintf(f, "usage: psim plan [--pin POLICY] [--threads N] [--topology FILE.xml]\n\n"
+                   "Print where each thread would run: thread, PU, core, CPU kind, NUMA node.\n"
+                   "POLICY: pcores, ecores, cores, all, numa:K, none (default: cores).\n");
+}
+
+/* psim plan / psim topo */
+int cli_plan(int argc, char **argv)
+{
+    static const struct option longs[] = {
+        {"pin", required_argument, 0, CLI_OPT_PIN},
+        {"topology", required_argument, 0, CLI_OPT_TOPOLOGY},
+        {"threads", required_argument, 0, 't'},
+        {"help", no_argument, 0, 'h'},
+        {0, 0, 0, 0}};
+    const char *cmd = argv[0];
+    int topo_only = strcmp(cmd, "topo") == 0;
+    cli_pin p = {0};
+    p.policy.kind = PSIM_PIN_CORES;
+    long threads = 0;
+    opterr = 0;
+    optind = 1;
+    int c;
+    while ((c = getopt_long(argc, argv, ":t:h", longs, NULL)) != -1) {
+        if (c == 'h') {
+            plan_usage(stdout, cmd);
+            return 0;
+        } else if (c == 't' && !topo_only) {
+            if (cli_long("--threads", optarg, 1, 4096, &threads))
+                return 2;
+        } else if ((c == CLI_OPT_PIN && !topo_only) || c == CLI_OPT_TOPOLOGY) {
+            if (cli_pin_option(&p, c, optarg))
+                return 2;
+        } else {
+            fprintf(stderr, "psim %s: %s option '%s' (see psim %s --help)\n", cmd,
+                    c == ':' ? "missing value for" : "unknown", argv[optind - 1], cmd);
+            return 2;
+        }
+    }
+    if (optind < argc) {
+        fprintf(stderr, "psim %s: unexpected argument '%s'\n", cmd, argv[optind]);
+        return 2;
+    }
+    psim_error err = {{0}};
+    p.topo = psim_topo_load(p.topology, &err);
+    if (!p.topo) {
+        fprintf(stderr, "psim: %s\n", err.msg);
+        return 1;
+    }
+    int rc = 0;
+    if (topo_only) {
+        psim_topo_print(stdout, p.topo);
+    } else if (psim_pin_plan_make(p.topo, &p.policy, (int)threads, &p.plan, &err)) {
+        fprintf(stderr, "psim: %s\n", err.msg);
+        rc = 1;
+    } else {
+        if (!p.plan.slot && p.plan.threads <= 0)
+            p.plan.threads = omp_get_max_threads();
+        if (p.plan.notice[0])
+            fprintf(stderr, "psim: notice: %s\n", p.plan.notice);
+        psim_pin_plan_print(stdout, p.topo, &p.plan);
+    }
+    cli_pin_free(&p);
+    return rc;
+}
