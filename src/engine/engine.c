@@ -77,7 +77,11 @@ psim_sim *psim_create(const psim_scene *sc, const psim_config *cfg,
         psim_error_set(err, "out of memory for %ld particles", sc->n);
         goto fail;
     }
-    for (long i = 0; i < sc->n; i++) {
+    /* first touch by the threads that will work on these particles (the
+     * static schedule of the drift), so pages land on their NUMA nodes */
+    const long n = sc->n;
+#pragma omp parallel for schedule(static) num_threads(e->threads)
+    for (long i = 0; i < n; i++) {
         e->st.x[i] = sc->x[i];
         e->st.y[i] = sc->y[i];
         e->st.vx[i] = sc->vx[i];
