@@ -88,6 +88,7 @@ typedef enum {
     PSIM_PHASE_CONTACTS,
     PSIM_PHASE_RESOLVE,
     PSIM_PHASE_CHECK,
+    PSIM_PHASE_OUTPUT,
     PSIM_PHASE_COUNT
 } psim_phase;
 
@@ -122,6 +123,21 @@ long psim_count(const psim_sim *s);
 void psim_get_state(const psim_sim *s, double *x, double *y, double *vx,
                     double *vy);
 const psim_stats *psim_get_stats(const psim_sim *s);
+
+/* What one OpenMP thread did, per phase: time busy in its own work items
+ * (a waiting thread is not busy), work items (tiles, tasks, chunks) and
+ * particles handled, and the CPU it was last seen on. */
+typedef struct psim_thread_stats {
+    double busy_s[PSIM_PHASE_COUNT];
+    uint64_t items[PSIM_PHASE_COUNT];
+    uint64_t particles[PSIM_PHASE_COUNT];
+    uint64_t wall_resolutions;
+    int cpu;
+} __attribute__((aligned(64))) psim_thread_stats;
+
+const psim_thread_stats *psim_get_thread_stats(const psim_sim *s, int *threads);
+/* Account time the caller spent writing output (phase "output"). */
+void psim_add_output_time(psim_sim *s, double seconds);
 void psim_destroy(psim_sim *s);
 
 /* ---- output -------------------------------------------------------------- */

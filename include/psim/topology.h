@@ -69,6 +69,9 @@ int psim_pin_plan_make(const psim_topo *t, const psim_pin_policy *p,
 void psim_pin_plan_free(psim_pin_plan *plan);
 /* Name of CPU kind `kind` ("IntelCore", or "kind1" without a CoreType). */
 const char *psim_topo_kind_name(const psim_topo *t, int kind);
+/* Rank of the CPU kind of the PU with OS index pu (0 = least efficient),
+ * or -1 when unknown. */
+int psim_topo_kind_of_pu(const psim_topo *t, int pu);
 /* Print the plan as a table: thread, PU, core, CPU kind, NUMA node. */
 void psim_pin_plan_print(FILE *f, const psim_topo *t, const psim_pin_plan *plan);
 

@@ -57,4 +57,8 @@ void cli_pin_summary(FILE *f, const cli_pin *p);
 char *cli_pin_json(const cli_pin *p);  /* malloc'd JSON members */
 void cli_pin_free(cli_pin *p);
 
+/* --report table and the per-thread members of --stats (report.c). */
+void cli_report(FILE *f, const psim_sim *s, const cli_pin *p);
+char *cli_threads_json(const psim_sim *s, const cli_pin *p);
+
 #endif

@@ -1,5 +1,4 @@
 /* psim gen: write a scene the way the course generator does. */
-#define _GNU_SOURCE
 #include <getopt.h>
 #include <math.h>
 #include <stdlib.h>

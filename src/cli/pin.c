@@ -1,6 +1,5 @@
 /* Pinning for the CLI: --pin, --topology, --mem, --dry-run; psim plan and
  * psim topo. */
-#define _GNU_SOURCE
 #include <getopt.h>
 #include <stdlib.h>
 #include <string.h>
@@ -70,7 +69,7 @@ char *cli_pin_json(const cli_pin *p)
                 p->observed ? p->observed[k] : -1, s2->core,
                 psim_topo_kind_name(p->topo, s2->kind), s2->numa);
     }
-    fprintf(f, "%s]\n", p->plan.slot ? "\n  " : "");
+    fprintf(f, "%s]", p->plan.slot ? "\n  " : "");
     fclose(f);
     return s;
 }

@@ -1,5 +1,4 @@
 /* psim [OPTIONS] [SCENE [THREADS]]: run a scene. */
-#define _GNU_SOURCE
 #include <getopt.h>
 #include <math.h>
 #include <stdlib.h>
@@ -14,7 +13,7 @@
 typedef struct run_opts {
     const char *scene, *out, *trace, *stats;
     long threads, steps, digits, tile;
-    int check, quiet;
+    int check, quiet, report;
     cli_pin pin;
 } run_opts;
 
@@ -39,7 +38,10 @@ static void run_usage(FILE *f)
 "      --digits N    fixed N decimals (8 gives the course's format); default:\n"
 "                    the shortest text that reads back to the same double\n"
 "      --check       validate every step as the course's validator does\n"
-"      --stats FILE  write run statistics (phase times, counts) as JSON\n"
+"      --stats FILE  write run statistics (phase times, counts, per-thread\n"
+"                    profile, placement) as JSON\n"
+"      --report      print the per-thread, per-phase profile with the load\n"
+"                    imbalance of each phase\n"
 "      --tile N      cells per tile side, a power of two (default: automatic)\n"
 "      --pin POLICY  bind threads with hwloc: pcores, ecores, cores, all,\n"
 "                    numa:K or none (default); see psim plan --help\n"
@@ -67,6 +69,7 @@ static int parse_run(int argc, char **argv, run_opts *o)
         {"topology", required_argument, 0, CLI_OPT_TOPOLOGY},
         {"mem", required_argument, 0, CLI_OPT_MEM},
         {"dry-run", no_argument, 0, CLI_OPT_DRY_RUN},
+        {"report", no_argument, 0, 'R'},
         {0, 0, 0, 0}};
     memset(o, 0, sizeof *o);
     o->steps = -1;
@@ -90,6 +93,7 @@ static int parse_run(int argc, char **argv, run_opts *o)
             }
             break;
         case 'q': o->quiet = 1; break;
+        case 'R': o->report = 1; break;
         case CLI_OPT_PIN: case CLI_OPT_TOPOLOGY: case CLI_OPT_MEM: case CLI_OPT_DRY_RUN:
             if (cli_pin_option(&o->pin, c, optarg)) return 2;
             break;
@@ -138,12 +142,14 @@ typedef struct run_state {
     double *x, *y, *vx, *vy;
 } run_state;
 
-static int write_state(const psim_sim *s, FILE *f, long step, long digits,
-                       run_state *rs)
+static int write_state(psim_sim *s, FILE *f, long step, long digits, run_state *rs)
 {
+    double t0 = psim_now();
     psim_get_state(s, rs->x, rs->y, rs->vx, rs->vy);
-    return psim_write_state(f, step, psim_count(s), rs->x, rs->y, rs->vx, rs->vy,
-                            (int)digits);
+    int rc = psim_write_state(f, step, psim_count(s), rs->x, rs->y, rs->vx, rs->vy,
+                              (int)digits);
+    psim_add_output_time(s, psim_now() - t0);
+    return rc;
 }
 
 static void print_summary(const run_opts *o, const psim_scene *sc,
@@ -253,15 +259,21 @@ int cli_run(int argc, char **argv)
                 err.msg);
         goto done;
     }
-    double secs = psim_now() - t0;
+    /* the steps' time, without the trace written between them */
+    double secs = psim_now() - t0 - psim_get_stats(s)->phase_s[PSIM_PHASE_OUTPUT];
     if (rs.out.f && write_state(s, rs.out.f, steps, o.digits, &rs)) {
         fprintf(stderr, "psim: %s: write failed\n", o.out);
         goto done;
     }
+    if ((o.report || o.stats) && !o.pin.topo)
+        o.pin.topo = psim_topo_load(NULL, &err); /* for the CPU kinds; may fail */
     if (rs.stats.f) {
-        char *pin_json = cli_pin_json(&o.pin);
-        psim_write_stats_json(rs.stats.f, s, o.scene ? o.scene : "default", secs, pin_json);
-        free(pin_json);
+        char *pin_json = cli_pin_json(&o.pin), *thr_json = cli_threads_json(s, &o.pin);
+        char *extra = NULL;
+        if (pin_json && thr_json && asprintf(&extra, "%s,\n%s\n", pin_json, thr_json) < 0)
+            extra = NULL;
+        psim_write_stats_json(rs.stats.f, s, o.scene ? o.scene : "default", secs, extra);
+        free(pin_json), free(thr_json), free(extra);
     }
     if (outfile_commit(&rs.out) || outfile_commit(&rs.trace) || outfile_commit(&rs.stats))
         goto done;
@@ -269,6 +281,8 @@ int cli_run(int argc, char **argv)
         print_summary(&o, &sc, s, secs);
         cli_pin_summary(stdout, &o.pin);
     }
+    if (o.report)
+        cli_report(stdout, s, &o.pin);
     rc = 0;
 done:
     abort_outputs(&rs);

@@ -29,7 +29,7 @@ void psim_config_default(psim_config *cfg)
 const char *psim_phase_name(psim_phase p)
 {
     static const char *names[PSIM_PHASE_COUNT] = {"move", "sort", "contacts",
-                                                  "resolve", "check"};
+                                                  "resolve", "check", "output"};
     return (p >= 0 && p < PSIM_PHASE_COUNT) ? names[p] : "?";
 }
 
@@ -93,6 +93,13 @@ psim_sim *psim_create(const psim_scene *sc, const psim_config *cfg,
         psim_error_set(err, "out of memory for checks");
         goto fail;
     }
+    e->tstats = psim_calloc((size_t)e->threads * sizeof *e->tstats);
+    if (!e->tstats) {
+        psim_error_set(err, "out of memory");
+        goto fail;
+    }
+    for (int k = 0; k < e->threads; k++)
+        e->tstats[k].cpu = -1;
     e->stats.threads = e->threads;
     e->stats.grid_cells = e->grid.G;
     e->stats.tile_cells = 1 << e->grid.tile_shift;
@@ -117,6 +124,7 @@ void psim_destroy(psim_sim *e)
     psim_store_free(&e->st);
     snapshot_free(&e->before);
     snapshot_free(&e->after);
+    psim_free(e->tstats);
     free(e);
 }
 
@@ -144,7 +152,7 @@ static void take_snapshot(const psim_sim *e, psim_snapshot *s)
 
 __attribute__((noinline)) static void phase_sort(psim_sim *e)
 {
-    psim_sort_by_cell(&e->sorter, &e->st, &e->grid, e->threads);
+    psim_sort_by_cell(&e->sorter, &e->st, &e->grid, e->threads, e->tstats);
 }
 
 int psim_step(psim_sim *e, psim_error *err)
@@ -159,9 +167,14 @@ int psim_step(psim_sim *e, psim_error *err)
     e->stats.steps = e->step;
     if (e->cfg.check && e->model->check) {
         int rc;
-        PSIM_TIMED(e, PSIM_PHASE_CHECK,
-                   (take_snapshot(e, &e->after),
-                    rc = e->model->check(e, e->mstate, &e->before, &e->after, err)));
+        double t0 = psim_now();
+        take_snapshot(e, &e->after);
+        rc = e->model->check(e, e->mstate, &e->before, &e->after, err);
+        double dt = psim_now() - t0;
+        e->stats.phase_s[PSIM_PHASE_CHECK] += dt;
+        e->tstats[0].busy_s[PSIM_PHASE_CHECK] += dt;
+        e->tstats[0].items[PSIM_PHASE_CHECK]++;
+        e->tstats[0].particles[PSIM_PHASE_CHECK] += (uint64_t)e->n;
         if (rc)
             return -1;
     }
@@ -171,3 +184,16 @@ int psim_step(psim_sim *e, psim_error *err)
 long psim_step_index(const psim_sim *e) { return e->step; }
 long psim_count(const psim_sim *e) { return e->n; }
 const psim_stats *psim_get_stats(const psim_sim *e) { return &e->stats; }
+
+const psim_thread_stats *psim_get_thread_stats(const psim_sim *e, int *threads)
+{
+    *threads = e->threads;
+    return e->tstats;
+}
+
+void psim_add_output_time(psim_sim *e, double seconds)
+{
+    e->stats.phase_s[PSIM_PHASE_OUTPUT] += seconds;
+    e->tstats[0].busy_s[PSIM_PHASE_OUTPUT] += seconds;
+    e->tstats[0].items[PSIM_PHASE_OUTPUT]++;
+}

@@ -21,6 +21,7 @@ struct psim_sim {
     psim_grid grid;
     psim_sorter sorter;
     psim_stats stats;
+    psim_thread_stats *tstats;   /* one per thread */
     const psim_model *model;
     void *mstate;
     psim_snapshot before, after; /* by id, for checks */

@@ -3,6 +3,7 @@
 #include <string.h>
 
 #include "mem.h"
+#include "timer.h"
 
 #define MAX_CHUNKS 16
 
@@ -29,7 +30,8 @@ static inline size_t part_lo(size_t n, int parts, int k)
 
 __attribute__((noinline)) size_t psim_sort_by_cell(psim_sorter *so,
                                                    psim_store *st,
-                                                   psim_grid *g, int threads)
+                                                   psim_grid *g, int threads,
+                                                   psim_thread_stats *ts)
 {
     const int C = so->chunks;
     const uint32_t B = so->ncells;
@@ -41,6 +43,7 @@ __attribute__((noinline)) size_t psim_sort_by_cell(psim_sorter *so,
         /* 1. cell of every particle, counted per chunk of particles */
 #pragma omp for schedule(static)
         for (int c = 0; c < C; c++) {
+            double t0 = psim_now();
             uint32_t *h = so->hist + (size_t)c * B;
             memset(h, 0, B * sizeof *h);
             for (size_t i = part_lo(n, C, c); i < part_lo(n, C, c + 1); i++) {
@@ -48,6 +51,8 @@ __attribute__((noinline)) size_t psim_sort_by_cell(psim_sorter *so,
                 st->cell[i] = k;
                 h[k]++;
             }
+            psim_tstat_add(ts, PSIM_PHASE_SORT, psim_now() - t0, 1,
+                           part_lo(n, C, c + 1) - part_lo(n, C, c));
         }
         /* 2. exclusive scan in (cell, chunk) order, by blocks of cells */
 #pragma omp for schedule(static)
@@ -84,6 +89,7 @@ __attribute__((noinline)) size_t psim_sort_by_cell(psim_sorter *so,
         /* 3. stable scatter */
 #pragma omp for schedule(static)
         for (int c = 0; c < C; c++) {
+            double t0 = psim_now();
             uint32_t *h = so->hist + (size_t)c * B;
             for (size_t i = part_lo(n, C, c); i < part_lo(n, C, c + 1); i++) {
                 uint32_t d = h[st->cell[i]]++;
@@ -94,6 +100,7 @@ __attribute__((noinline)) size_t psim_sort_by_cell(psim_sorter *so,
                 st->vy2[d] = st->vy[i];
                 st->id2[d] = st->id[i];
             }
+            psim_tstat_add(ts, PSIM_PHASE_SORT, psim_now() - t0, 1, 0);
         }
     }
     psim_store_swap(st);

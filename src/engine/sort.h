@@ -11,6 +11,7 @@
 #define PSIM_ENGINE_SORT_H
 #include "grid.h"
 #include "store.h"
+#include "tstats.h"
 
 typedef struct psim_sorter {
     int chunks;
@@ -24,6 +25,6 @@ void psim_sorter_free(psim_sorter *so);
 /* Compute every particle's cell, sort the store by it and fill
  * g->cellstart.  Returns the number of particles that changed place. */
 size_t psim_sort_by_cell(psim_sorter *so, psim_store *st, psim_grid *g,
-                         int threads);
+                         int threads, psim_thread_stats *ts);
 
 #endif

@@ -1,5 +1,4 @@
 /* Topology and pinning with hwloc (see include/psim/topology.h). */
-#define _GNU_SOURCE
 #include "psim/topology.h"
 
 #include <errno.h>
@@ -173,6 +172,18 @@ const char *psim_topo_kind_name(const psim_topo *t, int kind)
     if (kind < 0 || kind >= t->nkinds)
         return "?";
     return t->kind_name[kind];
+}
+
+int psim_topo_kind_of_pu(const psim_topo *t, int pu)
+{
+    if (pu < 0)
+        return -1;
+    for (int c = 0; c < t->ncores; c++) {
+        hwloc_obj_t core = hwloc_get_obj_by_type(t->h, t->core_type, (unsigned)c);
+        if (hwloc_bitmap_isset(core->cpuset, (unsigned)pu))
+            return t->nkinds > 1 ? t->core_kind[c] : 0;
+    }
+    return -1;
 }
 
 /* ---- policies and plans -------------------------------------------------- */

@@ -1,6 +1,5 @@
 /* Reader of the CS3210 AY2024/25 scene format, strict: every problem is
  * reported as "FILE:LINE: what". */
-#define _POSIX_C_SOURCE 200809L
 #include <ctype.h>
 #include <errno.h>
 #include <math.h>

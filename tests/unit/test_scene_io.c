@@ -1,5 +1,4 @@
 /* Scene reading (strict, with file:line errors), writing and generating. */
-#define _GNU_SOURCE
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>

@@ -8,6 +8,7 @@
 #include "collide.h"
 #include "discrete.h"
 #include "../../engine/mem.h"
+#include "../../engine/tstats.h"
 
 static const int half_stencil[4][2] = {{1, 0}, {-1, 1}, {0, 1}, {1, 1}};
 
@@ -113,7 +114,10 @@ __attribute__((noinline)) void discrete_find_contacts(psim_sim *e, dmodel *m)
                 m->tiles[t].cross[d].n = 0;
             continue;
         }
+        double t0 = psim_now();
         tile_contacts(e, m, t);
+        psim_tstat_add(e->tstats, PSIM_PHASE_CONTACTS, psim_now() - t0, 1,
+                       m->tiles[t].p1 - m->tiles[t].p0);
         found += m->tiles[t].in.n;
         for (int d = 0; d < DIRS; d++)
             found += m->tiles[t].cross[d].n;

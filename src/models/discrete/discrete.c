@@ -2,7 +2,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <omp.h>
+
 #include "discrete.h"
+#include "../../engine/tstats.h"
 #include "../../engine/mem.h"
 
 /* Forward tile directions and the axis whose parity splits their chains:
@@ -82,10 +85,17 @@ __attribute__((noinline)) static void drift(psim_sim *e, void *p)
     (void)p;
     psim_store *s = &e->st;
     const long n = e->n;
-#pragma omp parallel for simd schedule(static) num_threads(e->threads)
-    for (long i = 0; i < n; i++) {
-        s->x[i] += s->vx[i];
-        s->y[i] += s->vy[i];
+#pragma omp parallel num_threads(e->threads)
+    {
+        double t0 = psim_now();
+        long T = omp_get_num_threads(), k = omp_get_thread_num();
+        long lo = n * k / T, hi = n * (k + 1) / T;
+#pragma omp simd
+        for (long i = lo; i < hi; i++) {
+            s->x[i] += s->vx[i];
+            s->y[i] += s->vy[i];
+        }
+        psim_tstat_add(e->tstats, PSIM_PHASE_MOVE, psim_now() - t0, 1, (uint64_t)(hi - lo));
     }
 }
 

@@ -4,6 +4,7 @@
 
 #include "collide.h"
 #include "discrete.h"
+#include "../../engine/tstats.h"
 
 /* Per-disk flags while resolving. */
 enum { F_QUEUED = 1, F_CHANGED = 2, F_SEEN = 4 };
@@ -101,6 +102,7 @@ static void tile_task(const psim_sim *e, dmodel *m, dtile *t, int first)
     }
     t->checks += checks;
     t->wall_res += wres;
+    e->tstats[omp_get_thread_num()].wall_resolutions += wres;
     t->pair_res += pres;
     t->round_res = pres + wres;
     t->changed_inner = (pres + wres) != 0;
@@ -188,7 +190,11 @@ static uint64_t emit_round(const psim_sim *e, dmodel *m, int first)
             continue;
         tasks++;
 #pragma omp task default(shared) firstprivate(t) depend(inout : m->dep[ti])
-        tile_task(e, m, t, first);
+        {
+            double t0 = psim_now();
+            tile_task(e, m, t, first);
+            psim_tstat_add(e->tstats, PSIM_PHASE_RESOLVE, psim_now() - t0, 1, t->p1 - t->p0);
+        }
     }
     for (size_t k = 0; k < m->nedges; k++) {
         const dedge *ed = &m->edges[k];
@@ -198,7 +204,11 @@ static uint64_t emit_round(const psim_sim *e, dmodel *m, int first)
         tasks++;
 #pragma omp task default(shared) firstprivate(k) \
     depend(inout : m->dep[ed->a]) depend(inout : m->dep[ed->b])
-        edge_task(e, m, k, first);
+        {
+            double t0 = psim_now();
+            edge_task(e, m, k, first);
+            psim_tstat_add(e->tstats, PSIM_PHASE_RESOLVE, psim_now() - t0, 1, 0);
+        }
     }
     return tasks;
 }

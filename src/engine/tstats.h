@@ -1,0 +1,24 @@
+/* Per-thread accounting of the phases (psim_thread_stats). */
+#ifndef PSIM_ENGINE_TSTATS_H
+#define PSIM_ENGINE_TSTATS_H
+#include <sched.h>
+
+#include <omp.h>
+
+#include "psim/psim.h"
+
+/* Add one work item's busy time to the calling thread's record.  ts may be
+ * NULL (no accounting). */
+static inline void psim_tstat_add(psim_thread_stats *ts, psim_phase p, double busy,
+                                  uint64_t items, uint64_t particles)
+{
+    if (!ts)
+        return;
+    psim_thread_stats *t = &ts[omp_get_thread_num()];
+    t->busy_s[p] += busy;
+    t->items[p] += items;
+    t->particles[p] += particles;
+    t->cpu = sched_getcpu();
+}
+
+#endif
