@@ -40,6 +40,17 @@ static psim_topo *build(const char *synthetic, const char *keep, const kind_spec
         CHECK(hwloc_cpukinds_register(h, set, kinds[k].efficiency, n, infos, 0) == 0);
         hwloc_bitmap_free(set);
     }
+    /* kinds registered unranked must reach psim unranked, or the test would
+     * not exercise psim's own ordering */
+    for (int k = 0; k < nkinds; k++) {
+        if (kinds[k].efficiency >= 0)
+            continue;
+        int eff = 0;
+        unsigned ninfo;
+        struct hwloc_info_s *infos;
+        CHECK(hwloc_cpukinds_get_info(h, (unsigned)k, NULL, &eff, &ninfo, &infos, 0) == 0);
+        CHECK_MSG(eff == -1, "kind %d was ranked by hwloc (efficiency %d)", k, eff);
+    }
     psim_error err = {{0}};
     psim_topo *t = psim_topo_wrap(h, &err);
     CHECK(t != NULL);
@@ -128,6 +139,10 @@ static void test_three_kinds(void)
 
 static void test_unranked(void)
 {
+    /* hwloc ranks kinds by CoreType or frequency on its own; this is the
+     * case where it does not (HWLOC_CPUKINDS_RANKING=none, or an OS that
+     * gives no ranking) */
+    setenv("HWLOC_CPUKINDS_RANKING", "none", 1);
     /* efficiency -1: told apart by CoreType, listed in either order */
     kind_spec by_type[] = {{"2-3", -1, "IntelCore", NULL}, {"0-1", -1, "IntelAtom", NULL}};
     psim_topo *t = build("pack:1 core:4 pu:1", NULL, by_type, 2);
@@ -147,6 +162,7 @@ static void test_unranked(void)
     expect_fail(t, "ecores", "use --pin=cores");
     expect_plan(t, "cores", 0, "0,1,2,3", NULL);
     psim_topo_free(t);
+    unsetenv("HWLOC_CPUKINDS_RANKING");
 }
 
 static void test_numa(void)
