@@ -66,13 +66,18 @@ static int build_adjacency(dtile *t)
     return 0;
 }
 
+static void clear_lists(dtile *t)
+{
+    t->in.n = 0;
+    for (int d = 0; d < DIRS; d++)
+        t->cross[d].n = 0;
+}
+
 static void tile_contacts(const psim_sim *e, dmodel *m, uint32_t tid)
 {
     const psim_grid *g = &e->grid;
     dtile *t = &m->tiles[tid];
-    t->in.n = 0;
-    for (int d = 0; d < DIRS; d++)
-        t->cross[d].n = 0;
+    clear_lists(t);
     int bad = 0;
     int tx = g->tile_x[tid], ty = g->tile_y[tid];
     for (uint32_t c = g->tile_cell0[tid]; c < g->tile_cell0[tid + 1] && !bad; c++) {
@@ -109,9 +114,7 @@ __attribute__((noinline)) void discrete_find_contacts(psim_sim *e, dmodel *m)
 #pragma omp parallel for schedule(dynamic, 1) num_threads(e->threads) reduction(+ : found)
     for (uint32_t t = 0; t < m->ntiles; t++) {
         if (m->tiles[t].p0 == m->tiles[t].p1) {
-            m->tiles[t].in.n = 0;
-            for (int d = 0; d < DIRS; d++)
-                m->tiles[t].cross[d].n = 0;
+            clear_lists(&m->tiles[t]); /* an empty tile: no work */
             continue;
         }
         double t0 = psim_now();
