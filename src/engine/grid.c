@@ -6,12 +6,14 @@
 #include "mem.h"
 #include "morton.h"
 
-/* Cells per side: as many as fit with side > 2r, but no more than about
- * four cells per particle, so sparse scenes do not pay for empty cells. */
+/* Cells per side: side > 2r, and about PSIM_CELL_PARTICLES particles per
+ * cell on average, since the per-cell work of the contact search (finding
+ * and opening the neighbour cells) costs more than a few extra distance
+ * tests (docs/performance.md, "Cell size"). */
 static int plan_cells(double L, double r, long n)
 {
     double fit = (r > 0.0) ? floor(L / (2.0 * r) * (1.0 - 1e-9)) : 1e9;
-    double cap = ceil(2.0 * sqrt((double)(n > 0 ? n : 1)));
+    double cap = ceil(sqrt((double)(n > 0 ? n : 1) / PSIM_CELL_PARTICLES));
     double G = fmin(fit, cap);
     if (!(G >= 1.0))
         G = 1.0;

@@ -17,6 +17,8 @@
  * stale border until the next round), so tiles are as large as parallelism
  * allows: measured in docs/performance.md ("Tile size"). */
 #define PSIM_TILE_PARTICLES 16384.0
+/* Default cell occupancy, in particles (cells are never narrower than 2r). */
+#define PSIM_CELL_PARTICLES 3.0
 
 typedef struct psim_grid {
     double L, h, invh;

@@ -68,9 +68,9 @@ gen "$tmp/d9.in" --n 3000 --r 2 --density 0.9 --steps 20 --seed 22
 all_thread_forms d5 "$tmp/d5.in"
 all_thread_forms d9 "$tmp/d9.in"
 
-# Many tiles: of 4x4 cells on the dense scene, of one cell on a smaller one.
-threads_1_2_3 d9tile4 "$tmp/d9.in" --tile 4
-(($(json_int "$tmp/d9tile4/ref.json" tiles) >= 100)) || fail "--tile 4 should give at least 100 tiles"
+# Many tiles: of 2x2 cells on the dense scene, of one cell on a smaller one.
+threads_1_2_3 d9tile2 "$tmp/d9.in" --tile 2
+(($(json_int "$tmp/d9tile2/ref.json" tiles) >= 100)) || fail "--tile 2 should give at least 100 tiles"
 gen "$tmp/small.in" --n 1000 --r 2 --density 0.7 --steps 20 --seed 24
 threads_1_2_3 tile1 "$tmp/small.in" --tile 1
 (($(json_int "$tmp/tile1/ref.json" tiles) >= 100)) || fail "--tile 1 should give at least 100 tiles"
