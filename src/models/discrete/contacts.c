@@ -24,7 +24,8 @@ static int scan_cells(const psim_sim *e, const dmodel *m, uint32_t ca,
     uint32_t a0 = g->cellstart[ca], a1 = g->cellstart[ca + 1];
     uint32_t b0 = g->cellstart[cb], b1 = g->cellstart[cb + 1];
     size_t most = (size_t)(a1 - a0) * (b1 - b0);
-    if (psim_reserve((void **)&to->c, &to->cap, to->n + most, sizeof *to->c))
+    if (to->n + most > to->cap &&
+        psim_reserve((void **)&to->c, &to->cap, to->n + most, sizeof *to->c))
         return -1;
     dcontact *out = to->c;
     size_t n = to->n;
