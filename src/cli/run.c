@@ -164,7 +164,8 @@ static void print_summary(const run_opts *o, const psim_scene *sc,
            st->threads, secs, 1e3 * secs / steps, o->check ? ", every step checked" : "");
     printf("  phases:");
     for (int p = 0; p < PSIM_PHASE_COUNT; p++)
-        if (p != PSIM_PHASE_CHECK || o->check)
+        if ((p != PSIM_PHASE_CHECK || o->check) &&
+            (p != PSIM_PHASE_OUTPUT || st->phase_s[p] > 0))
             printf(" %s %.3f s", psim_phase_name((psim_phase)p), st->phase_s[p]);
     printf("\n  per step: %.0f contacts, %.1f rounds (max %llu), %.0f pair and %.0f wall "
            "resolutions, %.0f tasks\n",
