@@ -50,14 +50,21 @@ static void tile_task(const psim_sim *e, dmodel *m, dtile *t, int first)
     const uint64_t budget = SETTLE_LIMIT * ((uint64_t)t->in.n + (t->p1 - t->p0));
 
     for (uint32_t i = t->p0; i < t->p1; i++) {
-        if (first) {
-            flag[i] = 0;
-            wl_push(&w, flag, i);
-        } else if (act[i]) {
-            act[i] = 0;
-            flag[i] |= F_CHANGED;
-            wl_push(&w, flag, i);
+        if (!first && !act[i])
+            continue;
+        act[i] = 0;
+        if (t->adj0[i - t->p0] == t->adj0[i - t->p0 + 1]) {
+            /* no contact inside the tile: only its walls, now; its queue
+             * turn would change nothing else */
+            flag[i] = F_SEEN;
+            if (walls && psim_wall_collides(x[i], y[i], vx[i], vy[i], L, r)) {
+                psim_wall_resolve(x[i], y[i], &vx[i], &vy[i], L, r);
+                wres++;
+            }
+            continue;
         }
+        flag[i] = first ? 0 : (uint8_t)(flag[i] | F_CHANGED);
+        wl_push(&w, flag, i);
     }
     t->has_active = 0;
     while (w.count) {
