@@ -106,6 +106,7 @@ typedef struct psim_stats {
     uint64_t wall_resolutions;
     uint64_t tasks;          /* OpenMP tasks created */
     int grid_cells;          /* cells per side */
+    double cell_side;        /* side of a cell (> 2r) */
     int tile_cells;          /* cells per tile side */
     int tiles;               /* tiles holding cells */
 } psim_stats;

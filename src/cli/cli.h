@@ -14,15 +14,27 @@ int cli_plan(int argc, char **argv);  /* psim plan | psim topo */
 int cli_long(const char *opt, const char *text, long lo, long hi, long *out);
 int cli_double(const char *opt, const char *text, double lo, double hi,
                double *out);
+/* One error line for an option getopt_long refused (c is what it
+ * returned: ':' for a missing value, '?' otherwise); cmd is NULL or the
+ * subcommand. */
+void cli_bad_option(const char *cmd, char **argv, int c);
 
-/* An output file that appears only when complete: written to a temporary
- * file beside it and renamed by outfile_commit; "-" is standard output. */
+/* An output file that appears only when complete.  A regular file (or a
+ * path that does not exist yet; a symbolic link is followed) is written to a
+ * temporary file beside it and renamed into place by outfile_commit_all;
+ * anything else (a device, a FIFO) is written directly; "-" is standard
+ * output.  Temporary files are removed on failure and on SIGINT, SIGTERM
+ * and SIGHUP. */
 typedef struct outfile {
-    char *path, *tmp;
+    char *path, *tmp;   /* tmp is NULL when writing directly */
+    const char *name;   /* for messages */
     FILE *f;
 } outfile;
 
 int outfile_open(outfile *o, const char *path);
+/* Close every open file of list, then, if all were written, rename them
+ * into place; otherwise remove them all.  One error line on failure. */
+int outfile_commit_all(outfile *const *list, int n);
 int outfile_commit(outfile *o);
 void outfile_abort(outfile *o);
 

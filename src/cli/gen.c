@@ -76,11 +76,8 @@ int cli_gen(int argc, char **argv)
         case 'p': bad = parse_place(optarg, &p.place); break;
         case 'o': out = optarg; break;
         case 'h': gen_usage(stdout); return 0;
-        case ':':
-            fprintf(stderr, "psim gen: option '%s' needs a value (see psim gen --help)\n", argv[optind - 1]);
-            return 2;
         default:
-            fprintf(stderr, "psim gen: unknown option '%s' (see psim gen --help)\n", argv[optind - 1]);
+            cli_bad_option("gen", argv, c);
             return 2;
         }
         if (bad)
@@ -110,10 +107,9 @@ int cli_gen(int argc, char **argv)
     outfile o;
     int rc = 1;
     if (outfile_open(&o, out ? out : "-") == 0) {
-        if (psim_scene_write(o.f, &sc) == 0 && outfile_commit(&o) == 0)
+        psim_scene_write(o.f, &sc); /* a failed write shows in the commit */
+        if (outfile_commit(&o) == 0)
             rc = 0;
-        else
-            outfile_abort(&o);
     }
     if (rc == 0)
         fprintf(stderr, "psim gen: %ld disks, L %.17g, r %g, density %.4f\n", sc.n,

@@ -160,9 +160,12 @@ int cli_plan(int argc, char **argv)
         } else if ((c == CLI_OPT_PIN && !topo_only) || c == CLI_OPT_TOPOLOGY) {
             if (cli_pin_option(&p, c, optarg))
                 return 2;
+        } else if (c == ':' || c == '?') {
+            cli_bad_option(cmd, argv, c);
+            return 2;
         } else {
-            fprintf(stderr, "psim %s: %s option '%s' (see psim %s --help)\n", cmd,
-                    c == ':' ? "missing value for" : "unknown", argv[optind - 1], cmd);
+            fprintf(stderr, "psim %s: %s is not an option of psim %s (see psim %s --help)\n",
+                    cmd, c == 't' ? "--threads" : "--pin", cmd, cmd);
             return 2;
         }
     }

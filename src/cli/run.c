@@ -1,10 +1,12 @@
 /* psim [OPTIONS] [SCENE [THREADS]]: run a scene. */
+#include <errno.h>
 #include <getopt.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include <omp.h>
+#include <sys/stat.h>
 
 #include "cli.h"
 #include "psim/psim.h"
@@ -47,13 +49,20 @@ static void run_usage(FILE *f)
 "                    numa:K or none (default); see psim plan --help\n"
 "      --topology F  plan against the hwloc XML topology F of another machine\n"
 "      --mem POLICY  local (first touch, default) or interleave over NUMA nodes\n"
-"      --dry-run     print the thread placement and exit (as psim plan)\n"
+"      --dry-run     print the thread placement of --pin and exit\n"
 "  -q, --quiet       print nothing but errors\n"
 "  -h, --help        show this help\n"
 "  -V, --version     show the version\n"
 "\n"
 "Output files appear only when complete.  Results do not depend on the\n"
 "thread count.  Exit status: 0 ok, 1 error (bad input, failed --check), 2 usage.\n");
+}
+
+/* "-" or an existing device or FIFO: may take several outputs */
+static int is_stream(const char *path)
+{
+    struct stat st;
+    return !strcmp(path, "-") || (stat(path, &st) == 0 && !S_ISREG(st.st_mode));
 }
 
 static int parse_run(int argc, char **argv, run_opts *o)
@@ -99,11 +108,8 @@ static int parse_run(int argc, char **argv, run_opts *o)
             break;
         case 'h': run_usage(stdout); exit(0);
         case 'V': printf("psim %s (%s, OpenMP %d)\n", PSIM_VERSION, psim_allocator(), _OPENMP); exit(0);
-        case ':':
-            fprintf(stderr, "psim: option '%s' needs a value (see psim --help)\n", argv[optind - 1]);
-            return 2;
         default:
-            fprintf(stderr, "psim: unknown option '%s' (see psim --help)\n", argv[optind - 1]);
+            cli_bad_option(NULL, argv, c);
             return 2;
         }
     }
@@ -115,8 +121,24 @@ static int parse_run(int argc, char **argv, run_opts *o)
     }
     if (rest >= 1)
         o->scene = argv[optind];
-    if (rest == 2 && cli_long("THREADS", argv[optind + 1], 1, 4096, &o->threads))
-        return 2;
+    if (rest == 2) {
+        long t;
+        if (cli_long("THREADS", argv[optind + 1], 1, 4096, &t))
+            return 2;
+        if (o->threads && o->threads != t) {
+            fprintf(stderr, "psim: --threads %ld and THREADS %ld disagree\n", o->threads, t);
+            return 2;
+        }
+        o->threads = t;
+    }
+    const char *files[3] = {o->out, o->trace, o->stats};
+    for (int a = 0; a < 3; a++)
+        for (int b = a + 1; b < 3; b++)
+            if (files[a] && files[b] && !strcmp(files[a], files[b]) && !is_stream(files[a])) {
+                fprintf(stderr, "psim: '%s' is named for two outputs (--out, --trace, --stats)\n",
+                        files[a]);
+                return 2;
+            }
     return 0;
 }
 
@@ -199,17 +221,18 @@ static int simulate(const run_opts *o, psim_sim *s, long steps, run_state *rs,
 {
     progress pb;
     progress_init(&pb, steps, o->quiet);
-    for (long k = 1; k <= steps; k++) {
+    int rc = 0;
+    for (long k = 1; k <= steps && rc == 0; k++) {
         if (psim_step(s, err))
-            return -1;
-        if (rs->trace.f && write_state(s, rs->trace.f, k, o->digits, rs)) {
+            rc = -1;
+        else if (rs->trace.f && write_state(s, rs->trace.f, k, o->digits, rs)) {
             psim_error_set(err, "%s: write failed", o->trace);
-            return -1;
-        }
-        progress_update(&pb, k);
+            rc = -1;
+        } else
+            progress_update(&pb, k);
     }
-    progress_done(&pb);
-    return 0;
+    progress_done(&pb); /* also on failure: the error line starts clean */
+    return rc;
 }
 
 int cli_run(int argc, char **argv)
@@ -224,11 +247,11 @@ int cli_run(int argc, char **argv)
     psim_sim *s = NULL;
     rc = 1;
     omp_set_dynamic(0);
-    if (cli_pin_setup(&o.pin, (int)o.threads, o.quiet))
-        goto done;
     if (o.pin.dry_run) {
-        psim_pin_plan_print(stdout, o.pin.topo, &o.pin.plan);
-        rc = 0;
+        if (cli_pin_setup(&o.pin, (int)o.threads, o.quiet) == 0) {
+            psim_pin_plan_print(stdout, o.pin.topo, &o.pin.plan);
+            rc = 0;
+        }
         goto done;
     }
     if (load_scene(&o, &sc, &err)) {
@@ -243,6 +266,10 @@ int cli_run(int argc, char **argv)
         goto done;
     }
     if (open_outputs(&o, &rs))
+        goto done;
+    /* pinned before the engine allocates, so first touch lands on the
+     * planned cores */
+    if (cli_pin_setup(&o.pin, (int)o.threads, o.quiet))
         goto done;
     psim_config cfg;
     psim_config_default(&cfg);
@@ -276,7 +303,8 @@ int cli_run(int argc, char **argv)
         psim_write_stats_json(rs.stats.f, s, o.scene ? o.scene : "default", secs, extra);
         free(pin_json), free(thr_json), free(extra);
     }
-    if (outfile_commit(&rs.out) || outfile_commit(&rs.trace) || outfile_commit(&rs.stats))
+    outfile *outs[3] = {&rs.out, &rs.trace, &rs.stats};
+    if (outfile_commit_all(outs, 3))
         goto done;
     if (!o.quiet) {
         print_summary(&o, &sc, s, secs);
@@ -285,6 +313,10 @@ int cli_run(int argc, char **argv)
     if (o.report)
         cli_report(stdout, s, &o.pin);
     rc = 0;
+    if (fflush(stdout) != 0 || ferror(stdout)) {
+        fprintf(stderr, "psim: <stdout>: write failed: %s\n", strerror(errno));
+        rc = 1;
+    }
 done:
     abort_outputs(&rs);
     cli_pin_free(&o.pin);

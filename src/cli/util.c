@@ -1,4 +1,5 @@
 #include <errno.h>
+#include <signal.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -42,22 +43,92 @@ int cli_double(const char *opt, const char *text, double lo, double hi,
     return 0;
 }
 
-int outfile_open(outfile *o, const char *path)
+/* Temporary files to remove if a signal ends the run. */
+#define MAX_TEMPS 8
+static char *volatile temps[MAX_TEMPS];
+
+static void on_signal(int sig)
 {
-    memset(o, 0, sizeof *o);
-    if (strcmp(path, "-") == 0) {
-        o->f = stdout;
-        return 0;
+    for (int k = 0; k < MAX_TEMPS; k++)
+        if (temps[k])
+            unlink(temps[k]);
+    signal(sig, SIG_DFL);
+    raise(sig);
+}
+
+static void track_temp(char *path, int add)
+{
+    static int handlers;
+    if (!handlers) {
+        signal(SIGINT, on_signal);
+        signal(SIGTERM, on_signal);
+        signal(SIGHUP, on_signal);
+        handlers = 1;
     }
-    o->path = strdup(path);
-    size_t len = strlen(path) + 16;
-    o->tmp = malloc(len);
-    if (!o->path || !o->tmp) {
-        fprintf(stderr, "psim: %s: out of memory\n", path);
+    for (int k = 0; k < MAX_TEMPS; k++)
+        if (add ? temps[k] == NULL : temps[k] == path) {
+            temps[k] = add ? path : NULL;
+            return;
+        }
+}
+
+static int open_direct(outfile *o, const char *path)
+{
+    o->f = fopen(path, "w");
+    if (!o->f) {
+        fprintf(stderr, "psim: %s: cannot write: %s\n", path, strerror(errno));
         outfile_abort(o);
         return -1;
     }
-    snprintf(o->tmp, len, "%s.tmpXXXXXX", path);
+    return 0;
+}
+
+void cli_bad_option(const char *cmd, char **argv, int c)
+{
+    /* a long option is argv[optind - 1] (up to any '='); a short one,
+     * possibly inside a cluster like -Zq, is optopt */
+    const char *arg = argv[optind - 1];
+    char name[64];
+    if (strncmp(arg, "--", 2) == 0)
+        snprintf(name, sizeof name, "%.*s", (int)strcspn(arg, "="), arg);
+    else
+        snprintf(name, sizeof name, "-%c", optopt);
+    const char *sp = cmd ? " " : "", *sub = cmd ? cmd : "";
+    if (c == ':')
+        fprintf(stderr, "psim%s%s: option '%s' needs a value (see psim%s%s --help)\n", sp,
+                sub, name, sp, sub);
+    else
+        fprintf(stderr, "psim%s%s: unknown option '%s' (see psim%s%s --help)\n", sp, sub,
+                name, sp, sub);
+}
+
+int outfile_open(outfile *o, const char *path)
+{
+    memset(o, 0, sizeof *o);
+    o->name = path;
+    if (!*path) {
+        fprintf(stderr, "psim: an output file name is empty\n");
+        return -1;
+    }
+    if (strcmp(path, "-") == 0) {
+        o->name = "<stdout>";
+        o->f = stdout;
+        return 0;
+    }
+    struct stat st;
+    int exists = stat(path, &st) == 0;
+    if (exists && !S_ISREG(st.st_mode))
+        return open_direct(o, path); /* a device or FIFO: no rename over it */
+    /* a symbolic link is followed: the file it names is replaced */
+    o->path = exists ? realpath(path, NULL) : strdup(path);
+    size_t len = o->path ? strlen(o->path) + 16 : 0;
+    o->tmp = o->path ? malloc(len) : NULL;
+    if (!o->tmp) {
+        fprintf(stderr, "psim: %s: cannot write: %s\n", path, strerror(errno ? errno : ENOMEM));
+        outfile_abort(o);
+        return -1;
+    }
+    snprintf(o->tmp, len, "%s.tmpXXXXXX", o->path);
     int fd = mkstemp(o->tmp);
     if (fd < 0) {
         fprintf(stderr, "psim: %s: cannot write: %s\n", path, strerror(errno));
@@ -66,7 +137,10 @@ int outfile_open(outfile *o, const char *path)
         outfile_abort(o);
         return -1;
     }
-    fchmod(fd, 0644);
+    track_temp(o->tmp, 1);
+    mode_t mask = umask(0);
+    umask(mask);
+    fchmod(fd, exists ? (st.st_mode & 07777) : (0666 & ~mask));
     o->f = fdopen(fd, "w");
     if (!o->f) {
         fprintf(stderr, "psim: %s: cannot write: %s\n", path, strerror(errno));
@@ -77,34 +151,65 @@ int outfile_open(outfile *o, const char *path)
     return 0;
 }
 
-int outfile_commit(outfile *o)
+/* Flush and close; 0, or -1 after one error line. */
+static int outfile_close(outfile *o)
 {
     if (!o->f)
         return 0;
-    if (o->f == stdout) {
-        o->f = NULL;
-        return fflush(stdout) ? -1 : 0;
+    int bad = fflush(o->f) != 0 || ferror(o->f);
+    int err = errno;
+    if (o->f != stdout && fclose(o->f) != 0 && !bad) {
+        bad = 1;
+        err = errno;
     }
-    int bad = ferror(o->f);
-    bad |= fclose(o->f) != 0;
     o->f = NULL;
-    if (bad || rename(o->tmp, o->path) != 0) {
-        fprintf(stderr, "psim: %s: write failed: %s\n", o->path, strerror(errno));
-        outfile_abort(o);
-        return -1;
+    if (bad)
+        fprintf(stderr, "psim: %s: write failed: %s\n", o->name, strerror(err ? err : EIO));
+    return bad ? -1 : 0;
+}
+
+int outfile_commit_all(outfile *const *list, int n)
+{
+    int bad = 0;
+    for (int k = 0; k < n && !bad; k++)
+        bad = outfile_close(list[k]);
+    for (int k = 0; k < n && !bad; k++) {
+        outfile *o = list[k];
+        if (o->tmp && rename(o->tmp, o->path) != 0) {
+            fprintf(stderr, "psim: %s: write failed: %s\n", o->name, strerror(errno));
+            bad = 1;
+            break;
+        }
+        if (o->tmp) {
+            track_temp(o->tmp, 0);
+            free(o->tmp);
+            o->tmp = NULL;
+        }
     }
-    free(o->tmp);
-    free(o->path);
-    o->tmp = o->path = NULL;
-    return 0;
+    for (int k = 0; k < n; k++)
+        if (bad)
+            outfile_abort(list[k]);
+        else {
+            free(list[k]->path);
+            list[k]->path = NULL;
+        }
+    return bad ? -1 : 0;
+}
+
+int outfile_commit(outfile *o)
+{
+    outfile *one[1] = {o};
+    return outfile_commit_all(one, 1);
 }
 
 void outfile_abort(outfile *o)
 {
     if (o->f && o->f != stdout)
         fclose(o->f);
-    if (o->tmp)
+    if (o->tmp) {
         unlink(o->tmp);
+        track_temp(o->tmp, 0);
+    }
     free(o->tmp);
     free(o->path);
     memset(o, 0, sizeof *o);

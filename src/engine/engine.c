@@ -1,5 +1,6 @@
 #include "engine.h"
 
+#include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -53,9 +54,24 @@ static void snapshot_free(psim_snapshot *s)
     memset(s, 0, sizeof *s);
 }
 
+/* {xmin, ymin, xmax, ymax} of the disks' centres */
+static const double *bounding_box(const psim_scene *sc, double *b)
+{
+    b[0] = b[2] = sc->x[0];
+    b[1] = b[3] = sc->y[0];
+    for (long i = 1; i < sc->n; i++) {
+        b[0] = fmin(b[0], sc->x[i]);
+        b[2] = fmax(b[2], sc->x[i]);
+        b[1] = fmin(b[1], sc->y[i]);
+        b[3] = fmax(b[3], sc->y[i]);
+    }
+    return b;
+}
+
 psim_sim *psim_create(const psim_scene *sc, const psim_config *cfg,
                       psim_error *err)
 {
+    double bbox[4];
     psim_sim *e = calloc(1, sizeof *e);
     if (!e) {
         psim_error_set(err, "out of memory");
@@ -72,7 +88,8 @@ psim_sim *psim_create(const psim_scene *sc, const psim_config *cfg,
         goto fail;
     }
     if (psim_store_init(&e->st, (size_t)sc->n) ||
-        psim_grid_init(&e->grid, sc->L, sc->r, sc->n, cfg->tile_cells) ||
+        psim_grid_init(&e->grid, sc->L, sc->r, sc->n, cfg->tile_cells,
+                       sc->n > 0 ? bounding_box(sc, bbox) : NULL) ||
         psim_sorter_init(&e->sorter, e->threads, e->grid.ncells)) {
         psim_error_set(err, "out of memory for %ld particles", sc->n);
         goto fail;
@@ -102,6 +119,7 @@ psim_sim *psim_create(const psim_scene *sc, const psim_config *cfg,
         e->tstats[k].cpu = -1;
     e->stats.threads = e->threads;
     e->stats.grid_cells = e->grid.G;
+    e->stats.cell_side = e->grid.h;
     e->stats.tile_cells = 1 << e->grid.tile_shift;
     e->stats.tiles = (int)e->grid.ntiles;
     e->mstate = e->model->create(e, err);

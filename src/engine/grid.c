@@ -64,13 +64,31 @@ static int bits_for(int W)
     return b;
 }
 
-int psim_grid_init(psim_grid *g, double L, double r, long n, int tile_cells)
+/* Whether disks in cell (cx, cy) can touch a wall: border cells hold every
+ * disk outside the grid; other cells only if they reach within r of a wall. */
+static int cell_near_wall(const psim_grid *g, int cx, int cy, double L, double r)
+{
+    if (cx == 0 || cy == 0 || cx == g->G - 1 || cy == g->G - 1)
+        return 1;
+    double eps = 1e-9 * (fabs(L) + fabs(g->x0) + fabs(g->y0) + g->side + r);
+    double xlo = g->x0 + cx * g->h, xhi = xlo + g->h;
+    double ylo = g->y0 + cy * g->h, yhi = ylo + g->h;
+    return xlo <= r + eps || ylo <= r + eps || xhi >= L - r - eps || yhi >= L - r - eps;
+}
+
+int psim_grid_init(psim_grid *g, double L, double r, long n, int tile_cells,
+                   const double *bbox)
 {
     memset(g, 0, sizeof *g);
     g->L = L;
-    g->G = plan_cells(L, r, n);
-    g->h = L / g->G;
-    g->invh = g->G / L;
+    g->x0 = bbox ? bbox[0] : 0.0;
+    g->y0 = bbox ? bbox[1] : 0.0;
+    g->side = bbox ? fmax(bbox[2] - bbox[0], bbox[3] - bbox[1]) : L;
+    if (!(g->side > 2.0 * r)) /* one cell, or all disks at one point */
+        g->side = 2.0 * r * (1.0 + 1e-6) + 1e-300;
+    g->G = plan_cells(g->side, r, n);
+    g->h = g->side / g->G;
+    g->invh = g->G / g->side;
     g->bits = bits_for(g->G);
     g->ncells = (uint32_t)g->G * (uint32_t)g->G;
     g->tile_shift = plan_tile_shift(g->G, g->bits, n, tile_cells);
@@ -104,8 +122,7 @@ int psim_grid_init(psim_grid *g, double L, double r, long n, int tile_cells)
             g->tile_cell0[t] = c;
             prev = t;
         }
-        int cx = g->cell_x[c], cy = g->cell_y[c];
-        if (cx == 0 || cy == 0 || cx == g->G - 1 || cy == g->G - 1)
+        if (cell_near_wall(g, g->cell_x[c], g->cell_y[c], L, r))
             g->tile_wall[t] = 1;
     }
     g->tile_cell0[g->ntiles] = g->ncells;

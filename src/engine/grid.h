@@ -6,8 +6,10 @@
  * rank is a sort by Morton key with no empty buckets outside the grid.
  * Tiles are aligned blocks of S x S cells (S a power of two); in Morton order
  * the cells of a tile are one contiguous rank range, and so are its
- * particles after the sort.  Positions outside [0, L] are clamped into the
- * border cells, which keeps adjacent disks in adjacent cells. */
+ * particles after the sort.  The grid spans the bounding box of the disks
+ * at the start (so a cluster in a corner of a huge box still gets small
+ * cells); positions outside it are clamped into the border cells, which
+ * keeps adjacent disks in adjacent cells. */
 #ifndef PSIM_ENGINE_GRID_H
 #define PSIM_ENGINE_GRID_H
 #include <stdint.h>
@@ -22,6 +24,7 @@
 
 typedef struct psim_grid {
     double L, h, invh;
+    double x0, y0, side;    /* the gridded square [x0, x0+side] x [y0, y0+side] */
     int G;                  /* cells per side */
     int bits;               /* 2^bits >= G */
     uint32_t ncells;        /* G * G */
@@ -35,18 +38,21 @@ typedef struct psim_grid {
     uint32_t *tile_of_xy;   /* [ty * TG + tx] -> tile rank */
     int32_t *tile_x, *tile_y;
     uint32_t *tile_cell0;   /* ntiles + 1: first cell rank of each tile */
-    uint8_t *tile_wall;     /* tile holds a border cell */
+    uint8_t *tile_wall;     /* tile holds a cell whose disks can touch a wall */
 } psim_grid;
 
-/* Plan a grid for n disks of radius r in [0, L]^2.  tile_cells: cells per
+/* Plan a grid for n disks of radius r in the box [0, L]^2, over the region
+ * bbox = {xmin, ymin, xmax, ymax} (NULL: the box).  tile_cells: cells per
  * tile side (a power of two), or 0 to choose about PSIM_TILE_PARTICLES
  * particles per tile. */
-int psim_grid_init(psim_grid *g, double L, double r, long n, int tile_cells);
+int psim_grid_init(psim_grid *g, double L, double r, long n, int tile_cells,
+                   const double *bbox);
 void psim_grid_free(psim_grid *g);
 
-static inline int psim_grid_coord(const psim_grid *g, double v)
+/* Cell coordinate of position v along an axis whose grid starts at origin. */
+static inline int psim_grid_coord(const psim_grid *g, double v, double origin)
 {
-    double c = v * g->invh;
+    double c = (v - origin) * g->invh;
     if (!(c >= 0.0))        /* negative or NaN */
         return 0;
     if (c >= (double)(g->G - 1))
@@ -56,8 +62,8 @@ static inline int psim_grid_coord(const psim_grid *g, double v)
 
 static inline uint32_t psim_grid_cell(const psim_grid *g, double x, double y)
 {
-    return g->rank_of_xy[(uint32_t)psim_grid_coord(g, y) * (uint32_t)g->G +
-                         (uint32_t)psim_grid_coord(g, x)];
+    return g->rank_of_xy[(uint32_t)psim_grid_coord(g, y, g->y0) * (uint32_t)g->G +
+                         (uint32_t)psim_grid_coord(g, x, g->x0)];
 }
 
 static inline uint32_t psim_grid_tile_of_cell(const psim_grid *g, uint32_t cell)

@@ -35,8 +35,10 @@ int psim_write_stats_json(FILE *f, const psim_sim *e, const char *scene_name,
     fprintf(f, ",\n  \"n\": %ld,\n  \"L\": %s,\n  \"r\": %s,\n  \"steps\": %ld,\n"
                "  \"threads\": %d,\n  \"allocator\": \"%s\",\n",
             e->n, L, r, s->steps, s->threads, psim_allocator_name());
-    fprintf(f, "  \"grid_cells\": %d,\n  \"tile_cells\": %d,\n  \"tiles\": %d,\n",
-            s->grid_cells, s->tile_cells, s->tiles);
+    char h[PSIM_FORMAT_MAX];
+    psim_format_double(h, s->cell_side, -1);
+    fprintf(f, "  \"grid_cells\": %d,\n  \"cell_side\": %s,\n  \"tile_cells\": %d,\n"
+               "  \"tiles\": %d,\n", s->grid_cells, h, s->tile_cells, s->tiles);
     fprintf(f, "  \"time_s\": %.6f,\n  \"phases_s\": {", total_s);
     for (int p = 0; p < PSIM_PHASE_COUNT; p++)
         fprintf(f, "%s\"%s\": %.6f", p ? ", " : "", psim_phase_name((psim_phase)p),

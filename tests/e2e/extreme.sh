@@ -44,4 +44,22 @@ PY
 # stiff: a dense pile moving fast into one corner, many tiles
 gen "$tmp/stiff.in" --n 1500 --r 1 --density 0.85 --steps 15 --vmin 5 --vmax 20 --seed 9
 run_ok "$PSIM" --check --quiet --tile 2 --threads 3 "$tmp/stiff.in"
+# a cluster in a corner of a huge box, and a cluster far outside the box:
+# the grid follows the disks, so cells stay small (and --check passes)
+python3 - "$tmp/cluster.in" "$tmp/outside.in" <<'PY'
+import random, sys
+random.seed(7)
+n = 3000
+for path, L, lo in ((sys.argv[1], 1000000, 0), (sys.argv[2], 1000, -5000)):
+    with open(path, "w") as f:
+        f.write(f"{n}\n{L}\n1\n10\n")
+        for i in range(n):
+            f.write(f"{i} {random.uniform(lo, lo + 100)} {random.uniform(lo, lo + 100)} "
+                    f"{random.uniform(-1, 1)} {random.uniform(-1, 1)}\n")
+PY
+for scene in cluster outside; do
+    run_ok "$PSIM" --check --quiet --stats "$tmp/$scene.json" "$tmp/$scene.in"
+    python3 -c "import json,sys; h = json.load(open(sys.argv[1]))['cell_side']; sys.exit(0 if h < 10 else 1)" \
+        "$tmp/$scene.json" || fail "$scene: the grid does not follow the disks"
+done
 echo "extreme: ok"

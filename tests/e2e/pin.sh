@@ -51,5 +51,5 @@ expect_fail --rc 2 "--mem: unknown policy" "$PSIM" --mem far "$tmp/s.in"
 expect_fail --rc 1 "missing.xml: cannot read" "$PSIM" --topology "$tmp/missing.xml" --pin cores "$tmp/s.in"
 echo "not xml" >"$tmp/bad.xml"
 expect_fail --rc 1 "bad.xml: not a topology hwloc can load" "$PSIM" plan --topology "$tmp/bad.xml"
-expect_fail --rc 2 "unknown option" "$PSIM" topo --pin cores
+expect_fail --rc 2 "--pin is not an option of psim topo" "$PSIM" topo --pin cores
 echo "pin: ok"

@@ -28,7 +28,7 @@ static void test_grid_ranks(void)
 {
     psim_grid g;
     /* L / 2r = 50 cells would fit; 10000 particles allow up to 200 */
-    CHECK(psim_grid_init(&g, 100.0, 1.0, 10000, 4) == 0);
+    CHECK(psim_grid_init(&g, 100.0, 1.0, 10000, 4, NULL) == 0);
     CHECK(g.G == 49 || g.G == 50);
     CHECK(g.h > 2.0);
     /* ranks are a permutation that follows Morton order */
@@ -57,31 +57,71 @@ static void test_grid_ranks(void)
 static void test_grid_clamp(void)
 {
     psim_grid g;
-    CHECK(psim_grid_init(&g, 10.0, 1.0, 100, 0) == 0);
+    CHECK(psim_grid_init(&g, 10.0, 1.0, 100, 0, NULL) == 0);
     CHECK(g.G == 4); /* side 2.5 > 2r */
-    CHECK(psim_grid_coord(&g, -5.0) == 0);
-    CHECK(psim_grid_coord(&g, -1e300) == 0);
-    CHECK(psim_grid_coord(&g, 0.0 / 0.0) == 0);
-    CHECK(psim_grid_coord(&g, 1e300) == g.G - 1);
-    CHECK(psim_grid_coord(&g, 10.0) == g.G - 1);
-    CHECK(psim_grid_coord(&g, 2.4) == 0);
-    CHECK(psim_grid_coord(&g, 2.6) == 1);
+    CHECK(psim_grid_coord(&g, -5.0, 0.0) == 0);
+    CHECK(psim_grid_coord(&g, -1e300, 0.0) == 0);
+    CHECK(psim_grid_coord(&g, 0.0 / 0.0, 0.0) == 0);
+    CHECK(psim_grid_coord(&g, 1e300, 0.0) == g.G - 1);
+    CHECK(psim_grid_coord(&g, 10.0, 0.0) == g.G - 1);
+    CHECK(psim_grid_coord(&g, 2.4, 0.0) == 0);
+    CHECK(psim_grid_coord(&g, 2.6, 0.0) == 1);
     /* disks within 2r are never more than one cell apart, also outside */
     double xs[] = {-7.0, -1.5, -0.1, 0.0, 1.9, 2.5, 4.9, 7.4, 9.99, 10.0, 11.5, 30.0};
     for (size_t i = 0; i < sizeof xs / sizeof xs[0]; i++)
         for (double d = -2.0; d <= 2.0; d += 0.125) {
-            int a = psim_grid_coord(&g, xs[i]), b = psim_grid_coord(&g, xs[i] + d);
+            int a = psim_grid_coord(&g, xs[i], 0.0), b = psim_grid_coord(&g, xs[i] + d, 0.0);
             CHECK(abs(a - b) <= 1);
         }
     psim_grid_free(&g);
 
     /* a huge sparse box: cells capped by the particle count */
-    CHECK(psim_grid_init(&g, 1e9, 0.5, 100, 0) == 0);
+    CHECK(psim_grid_init(&g, 1e9, 0.5, 100, 0, NULL) == 0);
     CHECK(g.G <= 20);
     psim_grid_free(&g);
     /* radius larger than the box: one cell */
-    CHECK(psim_grid_init(&g, 1.0, 5.0, 100, 0) == 0);
+    CHECK(psim_grid_init(&g, 1.0, 5.0, 100, 0, NULL) == 0);
     CHECK(g.G == 1 && g.ntiles == 1);
+    psim_grid_free(&g);
+}
+
+/* The grid spans the disks' bounding box; walls only near the box's walls. */
+static void test_grid_bbox(void)
+{
+    psim_grid g;
+    /* a cluster in [100, 200]^2 of a box of side 1e6 */
+    double bbox[4] = {100, 100, 200, 200};
+    CHECK(psim_grid_init(&g, 1e6, 1.0, 30000, 4, bbox) == 0);
+    CHECK(g.G == 49 && g.h > 2.0 && g.x0 == 100 && g.y0 == 100);
+    CHECK(psim_grid_coord(&g, 150.0, g.x0) == (int)(50.0 / g.h));
+    CHECK(psim_grid_coord(&g, 99.0, g.x0) == 0);     /* clamped */
+    CHECK(psim_grid_coord(&g, 5e5, g.x0) == g.G - 1);
+    /* far from every wall: only border tiles (holding clamped disks) test walls */
+    for (uint32_t t = 0; t < g.ntiles; t++) {
+        int border = g.tile_x[t] == 0 || g.tile_y[t] == 0 ||
+                     g.tile_x[t] == g.TG - 1 || g.tile_y[t] == g.TG - 1;
+        CHECK(g.tile_wall[t] == border);
+    }
+    psim_grid_free(&g);
+
+    /* a region reaching past the right wall: cells within r of x = L are
+     * wall cells even inside the grid */
+    double over[4] = {0, 0, 200, 200};
+    CHECK(psim_grid_init(&g, 100.0, 1.0, 40000, 1, over) == 0);
+    for (uint32_t c = 0; c < g.ncells; c++) {
+        double xlo = g.x0 + g.cell_x[c] * g.h, xhi = xlo + g.h;
+        if (xlo < 99.0 && xhi > 99.0) /* holds x + r = L */
+            CHECK(g.tile_wall[psim_grid_tile_of_cell(&g, c)]);
+        if (g.cell_x[c] > 1 && g.cell_y[c] > 1 && xhi < 98.0 && g.cell_y[c] < g.G - 1 &&
+            g.y0 + (g.cell_y[c] + 1) * g.h < 98.0)
+            CHECK(!g.tile_wall[psim_grid_tile_of_cell(&g, c)]);
+    }
+    psim_grid_free(&g);
+
+    /* all disks at one point: one cell */
+    double point[4] = {5, 5, 5, 5};
+    CHECK(psim_grid_init(&g, 10.0, 1.0, 100, 0, point) == 0);
+    CHECK(g.G == 1);
     psim_grid_free(&g);
 }
 
@@ -90,5 +130,6 @@ int main(void)
     test_morton();
     test_grid_ranks();
     test_grid_clamp();
+    test_grid_bbox();
     return check_done();
 }

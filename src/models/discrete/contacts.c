@@ -23,15 +23,20 @@ static int scan_cells(const psim_sim *e, const dmodel *m, uint32_t ca,
     const double four_r2 = m->four_r2;
     uint32_t a0 = g->cellstart[ca], a1 = g->cellstart[ca + 1];
     uint32_t b0 = g->cellstart[cb], b1 = g->cellstart[cb + 1];
-    size_t most = (size_t)(a1 - a0) * (b1 - b0);
-    if (to->n + most > to->cap &&
-        psim_reserve((void **)&to->c, &to->cap, to->n + most, sizeof *to->c))
-        return -1;
     dcontact *out = to->c;
     size_t n = to->n;
     for (uint32_t i = a0; i < a1; i++) {
         const double xi = x[i], yi = y[i];
-        for (uint32_t j = same ? i + 1 : b0; j < b1; j++) {
+        uint32_t j0 = same ? i + 1 : b0;
+        /* room for every candidate of this disk (a crowded cell grows the
+         * list as it goes, never by the square of its count at once) */
+        if (n + (b1 - j0) > to->cap) {
+            to->n = n;
+            if (psim_reserve((void **)&to->c, &to->cap, n + (b1 - j0), sizeof *to->c))
+                return -1;
+            out = to->c;
+        }
+        for (uint32_t j = j0; j < b1; j++) {
             double dx = x[j] - xi, dy = y[j] - yi;
             out[n] = (dcontact){(int32_t)i, (int32_t)j};
             n += psim_overlaps(dx * dx + dy * dy, four_r2);

@@ -196,7 +196,7 @@ static uint64_t emit_round(const psim_sim *e, dmodel *m, int first)
         if (!t->scheduled)
             continue;
         tasks++;
-#pragma omp task default(shared) firstprivate(t) depend(inout : m->dep[ti])
+#pragma omp task default(none) firstprivate(e, m, t, first) depend(inout : m->dep[ti])
         {
             double t0 = psim_now();
             tile_task(e, m, t, first);
@@ -209,7 +209,7 @@ static uint64_t emit_round(const psim_sim *e, dmodel *m, int first)
         if (!edge_has_work(m, ed) || !edge_may_change(m, ed, first))
             continue;
         tasks++;
-#pragma omp task default(shared) firstprivate(k) \
+#pragma omp task default(none) firstprivate(e, m, k, first) \
     depend(inout : m->dep[ed->a]) depend(inout : m->dep[ed->b])
         {
             double t0 = psim_now();
