@@ -115,8 +115,8 @@ typedef struct psim_sim psim_sim;
 
 psim_sim *psim_create(const psim_scene *sc, const psim_config *cfg,
                       psim_error *err);
-/* Advance one step.  Returns 0, or -1 with err set when --check finds a
- * violation. */
+/* Advance one step.  Returns 0, or -1 with err set: a --check violation,
+ * collisions that do not settle, or no memory for the contacts. */
 int psim_step(psim_sim *s, psim_error *err);
 long psim_step_index(const psim_sim *s);   /* steps done so far */
 long psim_count(const psim_sim *s);

@@ -97,6 +97,10 @@ int cli_gen(int argc, char **argv)
     }
     if (p.L <= 0)
         p.L = density > 0 ? sqrt((double)p.n * M_PI * p.r * p.r / density) : 100;
+    if (seed != floor(seed)) {
+        fprintf(stderr, "psim gen: --seed: expected a whole number, got %g\n", seed);
+        return 2;
+    }
     p.seed = (uint64_t)seed;
     psim_error err = {{0}};
     psim_scene sc;

@@ -93,6 +93,9 @@ static void rank_kinds(psim_topo *t)
     for (int k = 0; k < nr; k++) {
         if (!names[k][0])
             snprintf(names[k], sizeof names[0], "kind%d", k);
+        for (char *c = names[k]; *c; c++) /* names go into tables and JSON */
+            if (*c == '"' || *c == '\\' || *c < 0x21 || *c > 0x7e)
+                *c = '_';
         memcpy(t->kind_name[k], names[k], sizeof t->kind_name[k]);
     }
     t->nkinds = nr;

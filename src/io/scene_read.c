@@ -72,6 +72,10 @@ static int header_value(reader *rd, const char *what, int integer, double *v,
                         psim_error *err)
 {
     const char *s = next_line(rd);
+    if (!s && ferror(rd->f)) {
+        psim_error_set(err, "%s: read error: %s", rd->name, strerror(errno));
+        return -1;
+    }
     if (!s) {
         psim_error_set(err, "%s:%ld: unexpected end of file: expected %s",
                        rd->name, rd->line + 1, what);

@@ -49,6 +49,8 @@ static int scan_cells(const psim_sim *e, const dmodel *m, uint32_t ca,
 static int build_adjacency(dtile *t)
 {
     size_t n = t->p1 - t->p0;
+    if (2 * t->in.n >= UINT32_MAX) /* offsets are 32-bit */
+        return -1;
     if (psim_reserve((void **)&t->adj0, &t->adj0_cap, n + 1, sizeof *t->adj0) ||
         psim_reserve((void **)&t->adj, &t->adj_cap, 2 * t->in.n + 1, sizeof *t->adj) ||
         psim_reserve((void **)&t->queue, &t->queue_cap, n + 1, sizeof *t->queue))
