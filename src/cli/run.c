@@ -33,7 +33,8 @@ static void run_usage(FILE *f)
 "THREADS, as in the course's 'sim.perf input.in 8', is the same as --threads.\n"
 "\n"
 "options:\n"
-"  -t, --threads N   OpenMP threads (default: OMP_NUM_THREADS, else all cores)\n"
+"  -t, --threads N   OpenMP threads (default: OMP_NUM_THREADS, else all cores;\n"
+"                    with --pin, one per core of the policy)\n"
 "  -s, --steps S     run S steps instead of the scene's\n"
 "  -o, --out FILE    write the final state: lines 'S i x y vx vy' in id order\n"
 "      --trace FILE  write the state after every step 1..S (same lines)\n"
@@ -55,7 +56,8 @@ static void run_usage(FILE *f)
 "  -V, --version     show the version\n"
 "\n"
 "Output files appear only when complete.  Results do not depend on the\n"
-"thread count.  Exit status: 0 ok, 1 error (bad input, failed --check), 2 usage.\n");
+"thread count or the pinning.  Exit status: 0 ok, 1 error (bad input, failed\n"
+"--check, collisions that do not settle), 2 usage.\n");
 }
 
 /* "-" or an existing device or FIFO: may take several outputs */
