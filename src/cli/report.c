@@ -45,7 +45,7 @@ void cli_report(FILE *f, const psim_sim *s, const cli_pin *p)
     fprintf(f, "%-20s", "tasks (resolve)");
     for (int k = 0; k < n; k++)
         fprintf(f, " %11llu", (unsigned long long)ts[k].items[PSIM_PHASE_RESOLVE]);
-    fprintf(f, "\n%-20s", "tiles (contacts)");
+    fprintf(f, "\n%-20s", "chunks (contacts)");
     for (int k = 0; k < n; k++)
         fprintf(f, " %11llu", (unsigned long long)ts[k].items[PSIM_PHASE_CONTACTS]);
     fprintf(f, "\n%-20s", "particles (contacts)");

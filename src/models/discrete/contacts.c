@@ -74,24 +74,24 @@ static int build_adjacency(dtile *t)
     return 0;
 }
 
-static void clear_lists(dtile *t)
+static void clear_lists(dlist *in, dlist *cross)
 {
-    t->in.n = 0;
+    in->n = 0;
     for (int d = 0; d < DIRS; d++)
-        t->cross[d].n = 0;
+        cross[d].n = 0;
 }
 
-static void tile_contacts(const psim_sim *e, dmodel *m, uint32_t tid)
+/* Search cells [c0, c1) of tile tid; pairs go to in / cross[direction]. */
+static int search_cells(const psim_sim *e, const dmodel *m, uint32_t tid, uint32_t c0,
+                        uint32_t c1, dlist *in, dlist *cross)
 {
     const psim_grid *g = &e->grid;
-    dtile *t = &m->tiles[tid];
-    clear_lists(t);
     int bad = 0;
     int tx = g->tile_x[tid], ty = g->tile_y[tid];
-    for (uint32_t c = g->tile_cell0[tid]; c < g->tile_cell0[tid + 1] && !bad; c++) {
+    for (uint32_t c = c0; c < c1 && !bad; c++) {
         if (g->cellstart[c] == g->cellstart[c + 1])
             continue;
-        bad |= scan_cells(e, m, c, c, &t->in, 1);
+        bad |= scan_cells(e, m, c, c, in, 1);
         int cx = g->cell_x[c], cy = g->cell_y[c];
         for (int k = 0; k < 4; k++) {
             int nx = cx + half_stencil[k][0], ny = cy + half_stencil[k][1];
@@ -102,9 +102,33 @@ static void tile_contacts(const psim_sim *e, dmodel *m, uint32_t tid)
                 continue;
             int dtx = (nx >> g->tile_shift) - tx, dty = (ny >> g->tile_shift) - ty;
             int d = (dtx + 1) + 3 * (dty + 1);
-            dlist *to = (d == 4) ? &t->in : &t->cross[d];
-            bad |= scan_cells(e, m, c, c2, to, 0);
+            bad |= scan_cells(e, m, c, c2, d == 4 ? in : &cross[d], 0);
         }
+    }
+    return bad;
+}
+
+static int append(dlist *to, const dlist *from)
+{
+    if (to->n + from->n > to->cap &&
+        psim_reserve((void **)&to->c, &to->cap, to->n + from->n, sizeof *to->c))
+        return -1;
+    memcpy(to->c + to->n, from->c, from->n * sizeof *from->c);
+    to->n += from->n;
+    return 0;
+}
+
+/* A tile's lists: its chunks' lists in chunk order, then its adjacency. */
+static void join_chunks(dmodel *m, uint32_t tid)
+{
+    dtile *t = &m->tiles[tid];
+    int bad = 0;
+    clear_lists(&t->in, t->cross);
+    for (uint32_t k = m->tile_chunk0[tid]; k < m->tile_chunk0[tid + 1] && !bad; k++) {
+        const dchunk *ch = &m->chunks[k];
+        bad |= ch->oom || append(&t->in, &ch->in);
+        for (int d = 0; d < DIRS && !bad; d++)
+            bad |= append(&t->cross[d], &ch->cross[d]);
     }
     if (!bad)
         bad = build_adjacency(t);
@@ -119,19 +143,34 @@ __attribute__((noinline)) void discrete_find_contacts(psim_sim *e, dmodel *m)
         m->tiles[t].p1 = g->cellstart[g->tile_cell0[t + 1]];
     }
     uint64_t found = 0;
-#pragma omp parallel for schedule(dynamic, 1) num_threads(e->threads) reduction(+ : found)
-    for (uint32_t t = 0; t < m->ntiles; t++) {
-        if (m->tiles[t].p0 == m->tiles[t].p1) {
-            clear_lists(&m->tiles[t]); /* an empty tile: no work */
-            continue;
+#pragma omp parallel num_threads(e->threads) reduction(+ : found)
+    {
+#pragma omp for schedule(dynamic, 1)
+        for (uint32_t k = 0; k < m->nchunks; k++) {
+            dchunk *ch = &m->chunks[k];
+            clear_lists(&ch->in, ch->cross);
+            uint32_t a = g->cellstart[ch->c0], b = g->cellstart[ch->c1];
+            if (a == b)
+                continue; /* an empty region: no work */
+            double t0 = psim_now();
+            ch->oom = (uint8_t)(search_cells(e, m, ch->tile, ch->c0, ch->c1, &ch->in,
+                                             ch->cross) != 0);
+            psim_tstat_add(e->tstats, PSIM_PHASE_CONTACTS, psim_now() - t0, 1, b - a);
         }
-        double t0 = psim_now();
-        tile_contacts(e, m, t);
-        psim_tstat_add(e->tstats, PSIM_PHASE_CONTACTS, psim_now() - t0, 1,
-                       m->tiles[t].p1 - m->tiles[t].p0);
-        found += m->tiles[t].in.n;
-        for (int d = 0; d < DIRS; d++)
-            found += m->tiles[t].cross[d].n;
+#pragma omp for schedule(dynamic, 1)
+        for (uint32_t t = 0; t < m->ntiles; t++) {
+            dtile *tile = &m->tiles[t];
+            if (tile->p0 == tile->p1) {
+                clear_lists(&tile->in, tile->cross);
+                continue;
+            }
+            double t0 = psim_now();
+            join_chunks(m, t);
+            psim_tstat_add(e->tstats, PSIM_PHASE_CONTACTS, psim_now() - t0, 0, 0);
+            found += tile->in.n;
+            for (int d = 0; d < DIRS; d++)
+                found += tile->cross[d].n;
+        }
     }
     e->stats.contacts += found;
     m->step_contacts = found;

@@ -37,6 +37,33 @@ static int build_edges(const psim_grid *g, dmodel *m)
     return 0;
 }
 
+/* Split every tile's cell range into chunks of at most CHUNK_CELLS. */
+static int build_chunks(const psim_grid *g, dmodel *m)
+{
+    m->tile_chunk0 = psim_alloc(((size_t)m->ntiles + 1) * sizeof *m->tile_chunk0);
+    if (!m->tile_chunk0)
+        return -1;
+    uint32_t n = 0;
+    for (uint32_t t = 0; t < m->ntiles; t++)
+        n += (g->tile_cell0[t + 1] - g->tile_cell0[t] + CHUNK_CELLS - 1) / CHUNK_CELLS;
+    m->chunks = psim_calloc((size_t)n * sizeof *m->chunks);
+    if (!m->chunks)
+        return -1;
+    m->nchunks = 0;
+    for (uint32_t t = 0; t < m->ntiles; t++) {
+        m->tile_chunk0[t] = m->nchunks;
+        for (uint32_t c = g->tile_cell0[t]; c < g->tile_cell0[t + 1]; c += CHUNK_CELLS) {
+            dchunk *ch = &m->chunks[m->nchunks++];
+            ch->tile = t;
+            ch->c0 = c;
+            ch->c1 = c + CHUNK_CELLS < g->tile_cell0[t + 1] ? c + CHUNK_CELLS
+                                                            : g->tile_cell0[t + 1];
+        }
+    }
+    m->tile_chunk0[m->ntiles] = m->nchunks;
+    return 0;
+}
+
 static void destroy(void *p)
 {
     dmodel *m = p;
@@ -51,6 +78,13 @@ static void destroy(void *p)
         psim_free(d->adj);
         psim_free(d->queue);
     }
+    for (uint32_t k = 0; m->chunks && k < m->nchunks; k++) {
+        psim_free(m->chunks[k].in.c);
+        for (int d = 0; d < DIRS; d++)
+            psim_free(m->chunks[k].cross[d].c);
+    }
+    psim_free(m->chunks);
+    psim_free(m->tile_chunk0);
     psim_free(m->tiles);
     psim_free(m->edges);
     psim_free(m->edge_res);
@@ -71,7 +105,8 @@ static void *create(psim_sim *e, psim_error *err)
     m->active = psim_calloc((size_t)e->n + 1);
     m->flag = psim_calloc((size_t)e->n + 1);
     m->dep = psim_calloc(m->ntiles);
-    if (!m->tiles || !m->active || !m->flag || !m->dep || build_edges(&e->grid, m))
+    if (!m->tiles || !m->active || !m->flag || !m->dep || build_edges(&e->grid, m) ||
+        build_chunks(&e->grid, m))
         goto oom;
     return m;
 oom:

@@ -59,6 +59,18 @@ typedef struct __attribute__((aligned(64))) dtile {
     uint8_t diverged;           /* a task ran past its resolution budget */
 } dtile;
 
+/* A chunk of a tile's cells for the contact search: chunks are searched in
+ * parallel, then each tile joins its chunks' lists in chunk order, which
+ * gives the same lists as one search of the whole tile. */
+#define CHUNK_CELLS 1024
+
+typedef struct __attribute__((aligned(64))) dchunk {
+    uint32_t tile, c0, c1;      /* cells [c0, c1) of tile */
+    dlist in;
+    dlist cross[DIRS];
+    uint8_t oom;
+} dchunk;
+
 typedef struct dedge {
     uint32_t a, b;  /* tiles: b is a's neighbour in direction dir */
     int dir;
@@ -67,6 +79,9 @@ typedef struct dedge {
 typedef struct dmodel {
     uint32_t ntiles;
     dtile *tiles;
+    uint32_t nchunks;
+    dchunk *chunks;
+    uint32_t *tile_chunk0;  /* ntiles + 1: first chunk of each tile */
     dedge *edges;       /* in task-creation order */
     size_t nedges;
     uint64_t *edge_res; /* per edge, this round */
