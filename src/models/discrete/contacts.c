@@ -110,6 +110,8 @@ static int search_cells(const psim_sim *e, const dmodel *m, uint32_t tid, uint32
 
 static int append(dlist *to, const dlist *from)
 {
+    if (from->n == 0)
+        return 0;
     if (to->n + from->n > to->cap &&
         psim_reserve((void **)&to->c, &to->cap, to->n + from->n, sizeof *to->c))
         return -1;
