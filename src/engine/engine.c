@@ -10,6 +10,7 @@
 
 #include "mem.h"
 #include "timer.h"
+#include "tstats.h"
 
 void psim_error_set(psim_error *err, const char *fmt, ...)
 {
@@ -95,15 +96,18 @@ psim_sim *psim_create(const psim_scene *sc, const psim_config *cfg,
         goto fail;
     }
     /* first touch by the threads that will work on these particles (the
-     * static schedule of the drift), so pages land on their NUMA nodes */
-    const long n = sc->n;
-#pragma omp parallel for schedule(static) num_threads(e->threads)
-    for (long i = 0; i < n; i++) {
-        e->st.x[i] = sc->x[i];
-        e->st.y[i] = sc->y[i];
-        e->st.vx[i] = sc->vx[i];
-        e->st.vy[i] = sc->vy[i];
-        e->st.id[i] = (int32_t)i;
+     * split of the move), so pages land on their NUMA nodes */
+    const size_t n = (size_t)sc->n;
+#pragma omp parallel num_threads(e->threads)
+    {
+        int T = omp_get_num_threads(), k = omp_get_thread_num();
+        for (size_t i = psim_part_lo(n, T, k); i < psim_part_lo(n, T, k + 1); i++) {
+            e->st.x[i] = sc->x[i];
+            e->st.y[i] = sc->y[i];
+            e->st.vx[i] = sc->vx[i];
+            e->st.vy[i] = sc->vy[i];
+            e->st.id[i] = (int32_t)i;
+        }
     }
     if (cfg->check &&
         (snapshot_alloc(&e->before, e->n) || snapshot_alloc(&e->after, e->n))) {
@@ -190,9 +194,7 @@ int psim_step(psim_sim *e, psim_error *err)
         rc = e->model->check(e, e->mstate, &e->before, &e->after, err);
         double dt = psim_now() - t0;
         e->stats.phase_s[PSIM_PHASE_CHECK] += dt;
-        e->tstats[0].busy_s[PSIM_PHASE_CHECK] += dt;
-        e->tstats[0].items[PSIM_PHASE_CHECK]++;
-        e->tstats[0].particles[PSIM_PHASE_CHECK] += (uint64_t)e->n;
+        psim_tstat_add(e->tstats, PSIM_PHASE_CHECK, dt, 1, (uint64_t)e->n); /* thread 0 */
         if (rc)
             return -1;
     }
@@ -212,6 +214,5 @@ const psim_thread_stats *psim_get_thread_stats(const psim_sim *e, int *threads)
 void psim_add_output_time(psim_sim *e, double seconds)
 {
     e->stats.phase_s[PSIM_PHASE_OUTPUT] += seconds;
-    e->tstats[0].busy_s[PSIM_PHASE_OUTPUT] += seconds;
-    e->tstats[0].items[PSIM_PHASE_OUTPUT]++;
+    psim_tstat_add(e->tstats, PSIM_PHASE_OUTPUT, seconds, 1, 0); /* thread 0 */
 }

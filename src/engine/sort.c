@@ -23,11 +23,6 @@ void psim_sorter_free(psim_sorter *so)
     memset(so, 0, sizeof *so);
 }
 
-static inline size_t part_lo(size_t n, int parts, int k)
-{
-    return n * (size_t)k / (size_t)parts;
-}
-
 __attribute__((noinline)) size_t psim_sort_by_cell(psim_sorter *so,
                                                    psim_store *st,
                                                    psim_grid *g, int threads,
@@ -46,19 +41,19 @@ __attribute__((noinline)) size_t psim_sort_by_cell(psim_sorter *so,
             double t0 = psim_now();
             uint32_t *h = so->hist + (size_t)c * B;
             memset(h, 0, B * sizeof *h);
-            for (size_t i = part_lo(n, C, c); i < part_lo(n, C, c + 1); i++) {
+            for (size_t i = psim_part_lo(n, C, c); i < psim_part_lo(n, C, c + 1); i++) {
                 uint32_t k = psim_grid_cell(g, st->x[i], st->y[i]);
                 st->cell[i] = k;
                 h[k]++;
             }
             psim_tstat_add(ts, PSIM_PHASE_SORT, psim_now() - t0, 1,
-                           part_lo(n, C, c + 1) - part_lo(n, C, c));
+                           psim_part_lo(n, C, c + 1) - psim_part_lo(n, C, c));
         }
         /* 2. exclusive scan in (cell, chunk) order, by blocks of cells */
 #pragma omp for schedule(static)
         for (int b = 0; b < C; b++) {
             uint32_t sum = 0;
-            for (size_t k = part_lo(B, C, b); k < part_lo(B, C, b + 1); k++)
+            for (size_t k = psim_part_lo(B, C, b); k < psim_part_lo(B, C, b + 1); k++)
                 for (int c = 0; c < C; c++)
                     sum += so->hist[(size_t)c * B + k];
             so->block_total[b] = sum;
@@ -76,7 +71,7 @@ __attribute__((noinline)) size_t psim_sort_by_cell(psim_sorter *so,
 #pragma omp for schedule(static)
         for (int b = 0; b < C; b++) {
             uint32_t run = so->block_total[b];
-            for (size_t k = part_lo(B, C, b); k < part_lo(B, C, b + 1); k++) {
+            for (size_t k = psim_part_lo(B, C, b); k < psim_part_lo(B, C, b + 1); k++) {
                 g->cellstart[k] = run;
                 for (int c = 0; c < C; c++) {
                     uint32_t *h = so->hist + (size_t)c * B + k;
@@ -91,7 +86,7 @@ __attribute__((noinline)) size_t psim_sort_by_cell(psim_sorter *so,
         for (int c = 0; c < C; c++) {
             double t0 = psim_now();
             uint32_t *h = so->hist + (size_t)c * B;
-            for (size_t i = part_lo(n, C, c); i < part_lo(n, C, c + 1); i++) {
+            for (size_t i = psim_part_lo(n, C, c); i < psim_part_lo(n, C, c + 1); i++) {
                 uint32_t d = h[st->cell[i]]++;
                 moved += (d != i);
                 st->x2[d] = st->x[i];

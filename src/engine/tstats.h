@@ -7,6 +7,14 @@
 
 #include "psim/psim.h"
 
+/* Start of part k of n items split into `parts` near-equal parts: the one
+ * static split of the move, the sort and the first touch of the store, so a
+ * thread works on the particles whose pages it touched first. */
+static inline size_t psim_part_lo(size_t n, int parts, int k)
+{
+    return n * (size_t)k / (size_t)parts;
+}
+
 /* Add one work item's busy time to the calling thread's record.  ts may be
  * NULL (no accounting). */
 static inline void psim_tstat_add(psim_thread_stats *ts, psim_phase p, double busy,

@@ -123,8 +123,8 @@ __attribute__((noinline)) static void drift(psim_sim *e, void *p)
 #pragma omp parallel num_threads(e->threads)
     {
         double t0 = psim_now();
-        long T = omp_get_num_threads(), k = omp_get_thread_num();
-        long lo = n * k / T, hi = n * (k + 1) / T;
+        int T = omp_get_num_threads(), k = omp_get_thread_num();
+        long lo = (long)psim_part_lo((size_t)n, T, k), hi = (long)psim_part_lo((size_t)n, T, k + 1);
 #pragma omp simd
         for (long i = lo; i < hi; i++) {
             s->x[i] += s->vx[i];
