@@ -8,6 +8,7 @@
 int cli_run(int argc, char **argv);   /* psim [OPTIONS] [SCENE [THREADS]] */
 int cli_gen(int argc, char **argv);   /* psim gen [OPTIONS] */
 int cli_plan(int argc, char **argv);  /* psim plan | psim topo */
+int cli_models(int argc, char **argv); /* psim models */
 
 /* Strict number parsing for option values: print one error line and
  * return -1 when text is not a number in [lo, hi]. */

@@ -34,24 +34,28 @@ void cli_report(FILE *f, const psim_sim *s, const cli_pin *p)
     for (int k = 0; k < n; k++)
         fprintf(f, " %9s%-2d", "thread ", k);
     fprintf(f, " %10s\n", "imbalance");
-    for (int ph = 0; ph < PSIM_PHASE_COUNT; ph++) {
+    for (int ph = 0; ph < st->nphases; ph++) {
         if (st->phase_s[ph] == 0)
             continue;
-        fprintf(f, "%-10s %9.1f", psim_phase_name((psim_phase)ph), 1e3 * st->phase_s[ph]);
+        fprintf(f, "%-10s %9.1f", psim_phase_name(s, ph), 1e3 * st->phase_s[ph]);
         for (int k = 0; k < n; k++)
             fprintf(f, " %11.1f", 1e3 * ts[k].busy_s[ph]);
         fprintf(f, " %9.1f%%\n", 100 * imbalance(ts, n, ph));
     }
-    fprintf(f, "%-20s", "tasks (resolve)");
-    for (int k = 0; k < n; k++)
-        fprintf(f, " %11llu", (unsigned long long)ts[k].items[PSIM_PHASE_RESOLVE]);
-    fprintf(f, "\n%-20s", "chunks (contacts)");
-    for (int k = 0; k < n; k++)
-        fprintf(f, " %11llu", (unsigned long long)ts[k].items[PSIM_PHASE_CONTACTS]);
-    fprintf(f, "\n%-20s", "particles (contacts)");
-    for (int k = 0; k < n; k++)
-        fprintf(f, " %11llu", (unsigned long long)ts[k].particles[PSIM_PHASE_CONTACTS]);
-    fprintf(f, "\n%-20s", "wall resolutions");
+    /* work items and particles of the model's own phases */
+    for (int ph = PSIM_PHASE_MODEL; ph < st->nphases; ph++) {
+        char label[64];
+        snprintf(label, sizeof label, "items (%s)", psim_phase_name(s, ph));
+        fprintf(f, "%-20s", label);
+        for (int k = 0; k < n; k++)
+            fprintf(f, " %11llu", (unsigned long long)ts[k].items[ph]);
+        snprintf(label, sizeof label, "particles (%s)", psim_phase_name(s, ph));
+        fprintf(f, "\n%-20s", label);
+        for (int k = 0; k < n; k++)
+            fprintf(f, " %11llu", (unsigned long long)ts[k].particles[ph]);
+        fputc('\n', f);
+    }
+    fprintf(f, "%-20s", "wall collisions");
     for (int k = 0; k < n; k++)
         fprintf(f, " %11llu", (unsigned long long)ts[k].wall_resolutions);
     fprintf(f, "\n%-20s", "CPU");
@@ -80,8 +84,8 @@ char *cli_threads_json(const psim_sim *s, const cli_pin *p)
         static const char *what[3] = {"busy_s", "items", "particles"};
         for (int w = 0; w < 3; w++) {
             fprintf(f, ",\n     \"%s\": {", what[w]);
-            for (int ph = 0; ph < PSIM_PHASE_COUNT; ph++) {
-                fprintf(f, "%s\"%s\": ", ph ? ", " : "", psim_phase_name((psim_phase)ph));
+            for (int ph = 0; ph < psim_get_stats(s)->nphases; ph++) {
+                fprintf(f, "%s\"%s\": ", ph ? ", " : "", psim_phase_name(s, ph));
                 if (w == 0)
                     fprintf(f, "%.6f", ts[k].busy_s[ph]);
                 else
@@ -93,8 +97,8 @@ char *cli_threads_json(const psim_sim *s, const cli_pin *p)
         fprintf(f, "}");
     }
     fprintf(f, "\n  ],\n  \"imbalance\": {");
-    for (int ph = 0; ph < PSIM_PHASE_COUNT; ph++)
-        fprintf(f, "%s\"%s\": %.4f", ph ? ", " : "", psim_phase_name((psim_phase)ph),
+    for (int ph = 0; ph < psim_get_stats(s)->nphases; ph++)
+        fprintf(f, "%s\"%s\": %.4f", ph ? ", " : "", psim_phase_name(s, ph),
                 imbalance(ts, n, ph));
     fprintf(f, "}");
     fclose(f);

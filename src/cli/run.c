@@ -13,8 +13,8 @@
 #include "../engine/timer.h"
 
 typedef struct run_opts {
-    const char *scene, *out, *trace, *stats;
-    long threads, steps, digits, tile;
+    const char *scene, *out, *trace, *stats, *model;
+    long threads, steps, digits, tile, substeps;
     int check, quiet, report;
     cli_pin pin;
 } run_opts;
@@ -26,20 +26,32 @@ static void run_usage(FILE *f)
 "       psim gen [OPTIONS]            write a scene (psim gen --help)\n"
 "       psim plan [OPTIONS]           show where threads would run\n"
 "       psim topo [--topology FILE]   summarise the machine\n"
+"       psim models                   list the models\n"
 "\n"
-"Run SCENE (CS3210 AY2024/25 format: N, L, r, S, then N lines 'i x y vx vy')\n"
-"with the discrete model.  Without SCENE, run the built-in default scene\n"
-"(20000 disks, density 0.5, 100 steps).  SCENE '-' reads standard input.\n"
-"THREADS, as in the course's 'sim.perf input.in 8', is the same as --threads.\n"
+"Run SCENE with a model (psim models lists them).  Scenes of the CS3210\n"
+"AY2024/25 format (N, L, r, S, then N lines 'i x y vx vy') run with the\n"
+"discrete model by default; scenes of the AY2019/20 format (N, L, r, S, then\n"
+"'print' or 'perf', then optionally the particle lines) with the ccd model.\n"
+"Without SCENE, run the built-in default scene (20000 disks, density 0.5,\n"
+"100 steps).  SCENE '-' reads standard input.  THREADS, as in the course's\n"
+"'sim.perf input.in 8', is the same as --threads.\n"
 "\n"
 "options:\n"
+"  -m, --model NAME  discrete or ccd (default: the scene format's model)\n"
 "  -t, --threads N   OpenMP threads (default: OMP_NUM_THREADS, else all cores;\n"
 "                    with --pin, one per core of the policy)\n"
 "  -s, --steps S     run S steps instead of the scene's\n"
-"  -o, --out FILE    write the final state: lines 'S i x y vx vy' in id order\n"
-"      --trace FILE  write the state after every step 1..S (same lines)\n"
+"  -o, --out FILE    discrete: write the final state, lines 'S i x y vx vy'\n"
+"                    in id order; ccd: write what the authors' program prints\n"
+"                    (default: standard output; the summary goes to stderr):\n"
+"                    step 0, every step of a 'print' scene, and the last step\n"
+"                    with each disk's pair and wall collision counts\n"
+"      --trace FILE  write the state after every step 1..S: 'k i x y vx vy'\n"
 "      --digits N    fixed N decimals (8 gives the course's format); default:\n"
-"                    the shortest text that reads back to the same double\n"
+"                    discrete, the shortest text that reads back to the same\n"
+"                    double; ccd, 8 (as its authors print, -0.00000000 too)\n"
+"      --substeps K  the 2019 authors' SLOW_FACTOR: velocities divided by K,\n"
+"                    steps multiplied by K (lines are numbered by sub-step)\n"
 "      --check       validate every step as the course's validator does\n"
 "      --stats FILE  write run statistics (phase times, counts, per-thread\n"
 "                    profile, placement) as JSON\n"
@@ -67,6 +79,14 @@ static int is_stream(const char *path)
     return !strcmp(path, "-") || (stat(path, &st) == 0 && !S_ISREG(st.st_mode));
 }
 
+static int known_model(const char *name)
+{
+    for (int k = 0; k < psim_model_count(); k++)
+        if (strcmp(psim_model_name(k), name) == 0)
+            return 1;
+    return 0;
+}
+
 static int parse_run(int argc, char **argv, run_opts *o)
 {
     static const struct option longs[] = {
@@ -81,14 +101,25 @@ static int parse_run(int argc, char **argv, run_opts *o)
         {"mem", required_argument, 0, CLI_OPT_MEM},
         {"dry-run", no_argument, 0, CLI_OPT_DRY_RUN},
         {"report", no_argument, 0, 'R'},
+        {"model", required_argument, 0, 'm'},
+        {"substeps", required_argument, 0, 'K'},
         {0, 0, 0, 0}};
     memset(o, 0, sizeof *o);
     o->steps = -1;
     o->digits = -1;
+    o->substeps = 1;
     opterr = 0;
     int c;
-    while ((c = getopt_long(argc, argv, ":t:s:o:qhV", longs, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, ":t:s:o:m:qhV", longs, NULL)) != -1) {
         switch (c) {
+        case 'm':
+            if (!known_model(optarg)) {
+                fprintf(stderr, "psim: --model: unknown model '%s' (psim models lists them)\n", optarg);
+                return 2;
+            }
+            o->model = optarg;
+            break;
+        case 'K': if (cli_long("--substeps", optarg, 1, 1000000, &o->substeps)) return 2; break;
         case 't': if (cli_long("--threads", optarg, 1, 4096, &o->threads)) return 2; break;
         case 's': if (cli_long("--steps", optarg, 0, 1000000000L, &o->steps)) return 2; break;
         case 'o': o->out = optarg; break;
@@ -163,46 +194,46 @@ static int load_scene(const run_opts *o, psim_scene *sc, psim_error *err)
 
 typedef struct run_state {
     outfile out, trace, stats;
-    double *x, *y, *vx, *vy;
+    psim_output_style style;
+    int print;          /* the model's output holds every step */
 } run_state;
 
-static int write_state(psim_sim *s, FILE *f, long step, long digits, run_state *rs)
+static int write_out(psim_sim *s, FILE *f, long step, int final, long digits)
 {
     double t0 = psim_now();
-    psim_get_state(s, rs->x, rs->y, rs->vx, rs->vy);
-    int rc = psim_write_state(f, step, psim_count(s), rs->x, rs->y, rs->vx, rs->vy,
-                              (int)digits);
+    int rc = psim_write_output(s, f, step, final, (int)digits);
     psim_add_output_time(s, psim_now() - t0);
     return rc;
 }
 
-static void print_summary(const run_opts *o, const psim_scene *sc,
+static void print_summary(FILE *f, const run_opts *o, const psim_scene *sc,
                           const psim_sim *s, double secs)
 {
     const psim_stats *st = psim_get_stats(s);
     double steps = st->steps > 0 ? (double)st->steps : 1.0;
-    printf("psim %s: discrete model, %s: %ld disks, L %g, r %g, density %.3f\n",
-           PSIM_VERSION, o->scene ? o->scene : "default scene", sc->n, sc->L, sc->r,
-           psim_scene_density(sc));
-    printf("  %ld steps on %d threads in %.3f s (%.3f ms/step)%s\n", st->steps,
-           st->threads, secs, 1e3 * secs / steps, o->check ? ", every step checked" : "");
-    printf("  phases:");
-    for (int p = 0; p < PSIM_PHASE_COUNT; p++)
+    fprintf(f, "psim %s: %s model, %s: %ld disks, L %g, r %g, density %.3f\n",
+            PSIM_VERSION, psim_sim_model(s), o->scene ? o->scene : "default scene", sc->n,
+            sc->L, sc->r, psim_scene_density(sc));
+    fprintf(f, "  %ld steps on %d threads in %.3f s (%.3f ms/step)%s\n", st->steps,
+            st->threads, secs, 1e3 * secs / steps, o->check ? ", every step checked" : "");
+    fprintf(f, "  phases:");
+    for (int p = 0; p < st->nphases; p++)
         if ((p != PSIM_PHASE_CHECK || o->check) &&
+            (p != PSIM_PHASE_SORT || st->grid_cells > 0) &&
             (p != PSIM_PHASE_OUTPUT || st->phase_s[p] > 0))
-            printf(" %s %.3f s", psim_phase_name((psim_phase)p), st->phase_s[p]);
-    printf("\n  per step: %.0f contacts, %.1f rounds (max %llu), %.0f pair and %.0f wall "
-           "resolutions, %.0f tasks\n",
-           (double)st->contacts / steps, (double)st->rounds / steps,
-           (unsigned long long)st->max_rounds, (double)st->pair_resolutions / steps,
-           (double)st->wall_resolutions / steps, (double)st->tasks / steps);
-    printf("  grid %d x %d cells, tiles of %d x %d cells (%d tiles)\n", st->grid_cells,
-           st->grid_cells, st->tile_cells, st->tile_cells, st->tiles);
+            fprintf(f, " %s %.3f s", psim_phase_name(s, p), st->phase_s[p]);
+    fputc('\n', f);
+    psim_print_step_summary(f, s);
+    if (st->grid_cells > 0)
+        fprintf(f, "  grid %d x %d cells of side %g, tiles of %d x %d cells (%d tiles)\n",
+                st->grid_cells, st->grid_cells, st->cell_side, st->tile_cells,
+                st->tile_cells, st->tiles);
 }
 
 static int open_outputs(const run_opts *o, run_state *rs)
 {
-    if (o->out && outfile_open(&rs->out, o->out))
+    const char *out = o->out ? o->out : (rs->style.to_stdout ? "-" : NULL);
+    if (out && outfile_open(&rs->out, out))
         return -1;
     if (o->trace && outfile_open(&rs->trace, o->trace))
         return -1;
@@ -218,23 +249,46 @@ static void abort_outputs(run_state *rs)
     outfile_abort(&rs->stats);
 }
 
+/* The states due after step k of steps: the trace every step; the
+ * model's own output every step of a print scene (its last step with
+ * final set, written after the loop). */
+static int write_step(const run_opts *o, psim_sim *s, long k, long steps, run_state *rs,
+                      psim_error *err)
+{
+    if (rs->trace.f && write_out(s, rs->trace.f, k, 0, o->digits)) {
+        psim_error_set(err, "%s: write failed", o->trace);
+        return -1;
+    }
+    if (rs->out.f && rs->print && k < steps && write_out(s, rs->out.f, k, 0, o->digits)) {
+        psim_error_set(err, "%s: write failed", rs->out.name);
+        return -1;
+    }
+    return 0;
+}
+
 static int simulate(const run_opts *o, psim_sim *s, long steps, run_state *rs,
                     psim_error *err)
 {
     progress pb;
     progress_init(&pb, steps, o->quiet);
     int rc = 0;
+    if (rs->out.f && rs->style.initial && write_out(s, rs->out.f, 0, 0, o->digits)) {
+        psim_error_set(err, "%s: write failed", rs->out.name);
+        rc = -1;
+    }
     for (long k = 1; k <= steps && rc == 0; k++) {
-        if (psim_step(s, err))
+        if (psim_step(s, err) || write_step(o, s, k, steps, rs, err))
             rc = -1;
-        else if (rs->trace.f && write_state(s, rs->trace.f, k, o->digits, rs)) {
-            psim_error_set(err, "%s: write failed", o->trace);
-            rc = -1;
-        } else
+        else
             progress_update(&pb, k);
     }
     progress_done(&pb); /* also on failure: the error line starts clean */
     return rc;
+}
+
+static int on_stdout(const outfile *o)
+{
+    return o->f && o->path && strcmp(o->path, "-") == 0;
 }
 
 int cli_run(int argc, char **argv)
@@ -260,21 +314,15 @@ int cli_run(int argc, char **argv)
         fprintf(stderr, "psim: %s\n", err.msg);
         goto done;
     }
-    long steps = o.steps >= 0 ? o.steps : sc.steps;
-    size_t b = (size_t)(sc.n > 0 ? sc.n : 1) * sizeof(double);
-    rs.x = malloc(b), rs.y = malloc(b), rs.vx = malloc(b), rs.vy = malloc(b);
-    if (!rs.x || !rs.y || !rs.vx || !rs.vy) {
-        fprintf(stderr, "psim: out of memory for %ld particles\n", sc.n);
-        goto done;
-    }
-    if (open_outputs(&o, &rs))
-        goto done;
+    psim_scene_substeps(&sc, o.substeps);
+    long steps = o.steps >= 0 ? o.steps * o.substeps : sc.steps;
     /* pinned before the engine allocates, so first touch lands on the
      * planned cores */
     if (cli_pin_setup(&o.pin, (int)o.threads, o.quiet))
         goto done;
     psim_config cfg;
     psim_config_default(&cfg);
+    cfg.model = o.model;
     cfg.threads = o.pin.plan.threads;
     cfg.tile_cells = (int)o.tile;
     cfg.check = o.check;
@@ -283,16 +331,20 @@ int cli_run(int argc, char **argv)
         fprintf(stderr, "psim: %s\n", err.msg);
         goto done;
     }
+    rs.style = psim_get_output_style(s);
+    rs.print = rs.style.every_step && sc.print;
+    if (open_outputs(&o, &rs))
+        goto done;
     double t0 = psim_now();
     if (simulate(&o, s, steps, &rs, &err)) {
         fprintf(stderr, "psim: %s%s%s\n", o.scene ? o.scene : "default scene", ": ",
                 err.msg);
         goto done;
     }
-    /* the steps' time, without the trace written between them */
+    /* the steps' time, without the states written between them */
     double secs = psim_now() - t0 - psim_get_stats(s)->phase_s[PSIM_PHASE_OUTPUT];
-    if (rs.out.f && write_state(s, rs.out.f, steps, o.digits, &rs)) {
-        fprintf(stderr, "psim: %s: write failed\n", o.out);
+    if (rs.out.f && write_out(s, rs.out.f, steps, 1, o.digits)) {
+        fprintf(stderr, "psim: %s: write failed\n", rs.out.name);
         goto done;
     }
     if ((o.report || o.stats) && !o.pin.topo)
@@ -305,15 +357,18 @@ int cli_run(int argc, char **argv)
         psim_write_stats_json(rs.stats.f, s, o.scene ? o.scene : "default", secs, extra);
         free(pin_json), free(thr_json), free(extra);
     }
+    /* the summary goes to stderr when an output is on stdout */
+    FILE *info = (on_stdout(&rs.out) || on_stdout(&rs.trace) || on_stdout(&rs.stats))
+                     ? stderr : stdout;
     outfile *outs[3] = {&rs.out, &rs.trace, &rs.stats};
     if (outfile_commit_all(outs, 3))
         goto done;
     if (!o.quiet) {
-        print_summary(&o, &sc, s, secs);
-        cli_pin_summary(stdout, &o.pin);
+        print_summary(info, &o, &sc, s, secs);
+        cli_pin_summary(info, &o.pin);
     }
     if (o.report)
-        cli_report(stdout, s, &o.pin);
+        cli_report(info, s, &o.pin);
     rc = 0;
     if (fflush(stdout) != 0 || ferror(stdout)) {
         fprintf(stderr, "psim: <stdout>: write failed: %s\n", strerror(errno));
@@ -324,6 +379,18 @@ done:
     cli_pin_free(&o.pin);
     psim_destroy(s);
     psim_scene_free(&sc);
-    free(rs.x), free(rs.y), free(rs.vx), free(rs.vy);
     return rc;
+}
+
+/* psim models: one line per model. */
+int cli_models(int argc, char **argv)
+{
+    (void)argv;
+    if (argc > 1) {
+        fprintf(stderr, "psim models: unexpected argument '%s'\n", argv[1]);
+        return 2;
+    }
+    for (int k = 0; k < psim_model_count(); k++)
+        printf("%-10s %s\n", psim_model_name(k), psim_model_summary(k));
+    return 0;
 }

@@ -25,16 +25,59 @@ void psim_error_set(psim_error *err, const char *fmt, ...)
 void psim_config_default(psim_config *cfg)
 {
     memset(cfg, 0, sizeof *cfg);
-    cfg->model = PSIM_MODEL_DISCRETE;
 }
 
-const char *psim_phase_name(psim_phase p)
+const char *psim_phase_name(const psim_sim *e, int p)
 {
-    static const char *names[PSIM_PHASE_COUNT] = {"move", "sort", "contacts",
-                                                  "resolve", "check", "output"};
-    return (p >= 0 && p < PSIM_PHASE_COUNT) ? names[p] : "?";
+    return (p >= 0 && p < e->stats.nphases) ? e->stats.phase_name[p] : "?";
 }
 
+int psim_engine_counter(const psim_sim *e, const char *name)
+{
+    for (int k = 0; k < e->stats.ncounters; k++)
+        if (strcmp(e->stats.counter_name[k], name) == 0)
+            return k;
+    return -1;
+}
+
+uint64_t psim_counter(const psim_sim *e, const char *name)
+{
+    int k = psim_engine_counter(e, name);
+    return k < 0 ? 0 : e->stats.counter[k];
+}
+
+const char *psim_sim_model(const psim_sim *e) { return e->model->name; }
+
+/* Phase and counter names: the engine's, then the model's. */
+static void name_stats(psim_stats *st, const psim_model *m)
+{
+    static const char *engine_phases[PSIM_PHASE_MODEL] = {"move", "sort", "check",
+                                                          "output"};
+    for (int p = 0; p < PSIM_PHASE_MODEL; p++)
+        st->phase_name[p] = engine_phases[p];
+    st->nphases = PSIM_PHASE_MODEL;
+    for (int p = 0; p < PSIM_MODEL_PHASES && m->phases[p]; p++)
+        st->phase_name[st->nphases++] = m->phases[p];
+    st->ncounters = 0;
+    for (int k = 0; k < PSIM_COUNTERS_MAX && m->counters[k]; k++)
+        st->counter_name[st->ncounters++] = m->counters[k];
+}
+
+int psim_engine_grid(psim_sim *e, double reach, const double *bbox)
+{
+    psim_sorter_free(&e->sorter);
+    psim_grid_free(&e->grid);
+    e->has_grid = 0;
+    if (psim_grid_init(&e->grid, e->L, e->r, reach, e->n, e->cfg.tile_cells, bbox) ||
+        psim_sorter_init(&e->sorter, e->threads, e->grid.ncells))
+        return -1;
+    e->has_grid = 1;
+    e->stats.grid_cells = e->grid.G;
+    e->stats.cell_side = e->grid.h;
+    e->stats.tile_cells = 1 << e->grid.tile_shift;
+    e->stats.tiles = (int)e->grid.ntiles;
+    return 0;
+}
 static int snapshot_alloc(psim_snapshot *s, long n)
 {
     s->n = n;
@@ -55,24 +98,9 @@ static void snapshot_free(psim_snapshot *s)
     memset(s, 0, sizeof *s);
 }
 
-/* {xmin, ymin, xmax, ymax} of the disks' centres */
-static const double *bounding_box(const psim_scene *sc, double *b)
+psim_sim *psim_engine_create(const psim_scene *sc, const psim_config *cfg,
+                             const psim_model *model, psim_error *err)
 {
-    b[0] = b[2] = sc->x[0];
-    b[1] = b[3] = sc->y[0];
-    for (long i = 1; i < sc->n; i++) {
-        b[0] = fmin(b[0], sc->x[i]);
-        b[2] = fmax(b[2], sc->x[i]);
-        b[1] = fmin(b[1], sc->y[i]);
-        b[3] = fmax(b[3], sc->y[i]);
-    }
-    return b;
-}
-
-psim_sim *psim_create(const psim_scene *sc, const psim_config *cfg,
-                      psim_error *err)
-{
-    double bbox[4];
     psim_sim *e = calloc(1, sizeof *e);
     if (!e) {
         psim_error_set(err, "out of memory");
@@ -83,15 +111,9 @@ psim_sim *psim_create(const psim_scene *sc, const psim_config *cfg,
     e->n = sc->n;
     e->L = sc->L;
     e->r = sc->r;
-    e->model = psim_model_get(cfg->model);
-    if (!e->model) {
-        psim_error_set(err, "unknown model");
-        goto fail;
-    }
-    if (psim_store_init(&e->st, (size_t)sc->n) ||
-        psim_grid_init(&e->grid, sc->L, sc->r, sc->n, cfg->tile_cells,
-                       sc->n > 0 ? bounding_box(sc, bbox) : NULL) ||
-        psim_sorter_init(&e->sorter, e->threads, e->grid.ncells)) {
+    e->model = model;
+    name_stats(&e->stats, model);
+    if (psim_store_init(&e->st, (size_t)sc->n)) {
         psim_error_set(err, "out of memory for %ld particles", sc->n);
         goto fail;
     }
@@ -122,11 +144,7 @@ psim_sim *psim_create(const psim_scene *sc, const psim_config *cfg,
     for (int k = 0; k < e->threads; k++)
         e->tstats[k].cpu = -1;
     e->stats.threads = e->threads;
-    e->stats.grid_cells = e->grid.G;
-    e->stats.cell_side = e->grid.h;
-    e->stats.tile_cells = 1 << e->grid.tile_shift;
-    e->stats.tiles = (int)e->grid.ntiles;
-    e->mstate = e->model->create(e, err);
+    e->mstate = e->model->create(e, sc, err);
     if (!e->mstate)
         goto fail;
     return e;
@@ -177,12 +195,19 @@ __attribute__((noinline)) static void phase_sort(psim_sim *e)
     psim_sort_by_cell(&e->sorter, &e->st, &e->grid, e->threads, e->tstats);
 }
 
+void psim_engine_sort(psim_sim *e)
+{
+    if (e->has_grid)
+        PSIM_TIMED(e, PSIM_PHASE_SORT, phase_sort(e));
+}
+
 int psim_step(psim_sim *e, psim_error *err)
 {
     if (e->cfg.check)
         PSIM_TIMED(e, PSIM_PHASE_CHECK, take_snapshot(e, &e->before));
-    PSIM_TIMED(e, PSIM_PHASE_MOVE, e->model->drift(e, e->mstate));
-    PSIM_TIMED(e, PSIM_PHASE_SORT, phase_sort(e));
+    if (e->model->drift)
+        PSIM_TIMED(e, PSIM_PHASE_MOVE, e->model->drift(e, e->mstate));
+    psim_engine_sort(e);
     if (e->model->interact(e, e->mstate, err))
         return -1;
     e->step++;
@@ -216,3 +241,37 @@ void psim_add_output_time(psim_sim *e, double seconds)
     e->stats.phase_s[PSIM_PHASE_OUTPUT] += seconds;
     psim_tstat_add(e->tstats, PSIM_PHASE_OUTPUT, seconds, 1, 0); /* thread 0 */
 }
+
+void psim_print_step_summary(FILE *f, const psim_sim *e)
+{
+    const psim_stats *st = &e->stats;
+    if (e->model->step_summary) {
+        e->model->step_summary(f, st);
+        return;
+    }
+    double steps = st->steps > 0 ? (double)st->steps : 1.0;
+    fprintf(f, "  per step:");
+    for (int k = 0; k < st->ncounters; k++)
+        fprintf(f, "%s %.1f %s", k ? "," : "", (double)st->counter[k] / steps,
+                st->counter_name[k]);
+    fputc('\n', f);
+}
+
+int psim_write_output(psim_sim *e, FILE *f, long step, int final, int digits)
+{
+    if (e->model->write_state)
+        return e->model->write_state(e, e->mstate, f, step, final,
+                                     digits >= 0 ? digits : e->model->output_digits);
+    size_t b = (size_t)(e->n > 0 ? e->n : 1) * sizeof(double);
+    double *x = malloc(b), *y = malloc(b), *vx = malloc(b), *vy = malloc(b);
+    int rc = -1;
+    if (x && y && vx && vy) {
+        psim_get_state(e, x, y, vx, vy);
+        rc = psim_write_state(f, step, e->n, x, y, vx, vy,
+                              digits >= 0 ? digits : e->model->output_digits);
+    }
+    free(x), free(y), free(vx), free(vy);
+    return rc;
+}
+
+psim_output_style psim_get_output_style(const psim_sim *e) { return e->model->output; }

@@ -9,7 +9,7 @@
 #include "sort.h"
 #include "store.h"
 #include "timer.h"
-#include "../models/model.h"
+#include "model.h"
 
 struct psim_sim {
     psim_config cfg;
@@ -18,6 +18,7 @@ struct psim_sim {
     double L, r;
     long step;              /* steps done */
     psim_store st;
+    int has_grid;           /* the model asked for a grid: sort every step */
     psim_grid grid;
     psim_sorter sorter;
     psim_stats stats;

@@ -10,9 +10,9 @@
  * cell on average, since the per-cell work of the contact search (finding
  * and opening the neighbour cells) costs more than a few extra distance
  * tests (docs/performance.md, "Cell size"). */
-static int plan_cells(double L, double r, long n)
+static int plan_cells(double L, double reach, long n)
 {
-    double fit = (r > 0.0) ? floor(L / (2.0 * r) * (1.0 - 1e-9)) : 1e9;
+    double fit = (reach > 0.0) ? floor(L / reach * (1.0 - 1e-9)) : 1e9;
     double cap = ceil(sqrt((double)(n > 0 ? n : 1) / PSIM_CELL_PARTICLES));
     double G = fmin(fit, cap);
     if (!(G >= 1.0))
@@ -76,17 +76,17 @@ static int cell_near_wall(const psim_grid *g, int cx, int cy, double L, double r
     return xlo <= r + eps || ylo <= r + eps || xhi >= L - r - eps || yhi >= L - r - eps;
 }
 
-int psim_grid_init(psim_grid *g, double L, double r, long n, int tile_cells,
-                   const double *bbox)
+int psim_grid_init(psim_grid *g, double L, double r, double reach, long n,
+                   int tile_cells, const double *bbox)
 {
     memset(g, 0, sizeof *g);
     g->L = L;
     g->x0 = bbox ? bbox[0] : 0.0;
     g->y0 = bbox ? bbox[1] : 0.0;
     g->side = bbox ? fmax(bbox[2] - bbox[0], bbox[3] - bbox[1]) : L;
-    if (!(g->side > 2.0 * r)) /* one cell, or all disks at one point */
-        g->side = 2.0 * r * (1.0 + 1e-6) + 1e-300;
-    g->G = plan_cells(g->side, r, n);
+    if (!(g->side > reach)) /* one cell, or all disks at one point */
+        g->side = reach * (1.0 + 1e-6) + 1e-300;
+    g->G = plan_cells(g->side, reach, n);
     g->h = g->side / g->G;
     g->invh = g->G / g->side;
     g->bits = bits_for(g->G);

@@ -1,6 +1,6 @@
 /* The uniform cell grid and its tiles.
  *
- * Cells have side h > 2r, so overlapping disks are in the same or adjacent
+ * Cells have side h > reach (2r for contacts), so overlapping disks are in the same or adjacent
  * cells.  Cells are numbered by their dense Morton rank: the Morton keys of
  * the G x G cells, renumbered 0..G*G-1 in key order, so a counting sort by
  * rank is a sort by Morton key with no empty buckets outside the grid.
@@ -41,12 +41,13 @@ typedef struct psim_grid {
     uint8_t *tile_wall;     /* tile holds a cell whose disks can touch a wall */
 } psim_grid;
 
-/* Plan a grid for n disks of radius r in the box [0, L]^2, over the region
+/* Plan a grid for n disks of radius r in the box [0, L]^2 whose cells are
+ * wider than reach (2r for contacts; more for swept paths), over the region
  * bbox = {xmin, ymin, xmax, ymax} (NULL: the box).  tile_cells: cells per
  * tile side (a power of two), or 0 to choose about PSIM_TILE_PARTICLES
  * particles per tile. */
-int psim_grid_init(psim_grid *g, double L, double r, long n, int tile_cells,
-                   const double *bbox);
+int psim_grid_init(psim_grid *g, double L, double r, double reach, long n,
+                   int tile_cells, const double *bbox);
 void psim_grid_free(psim_grid *g);
 
 /* Cell coordinate of position v along an axis whose grid starts at origin. */

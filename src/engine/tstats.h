@@ -17,7 +17,7 @@ static inline size_t psim_part_lo(size_t n, int parts, int k)
 
 /* Add one work item's busy time to the calling thread's record.  ts may be
  * NULL (no accounting). */
-static inline void psim_tstat_add(psim_thread_stats *ts, psim_phase p, double busy,
+static inline void psim_tstat_add(psim_thread_stats *ts, int p, double busy,
                                   uint64_t items, uint64_t particles)
 {
     if (!ts)

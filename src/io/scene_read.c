@@ -1,5 +1,8 @@
-/* Reader of the CS3210 AY2024/25 scene format, strict: every problem is
- * reported as "FILE:LINE: what". */
+/* Reader of both scene formats, strict: every problem is reported as
+ * "FILE:LINE: what".
+ *   AY2024/25: N, L, r, S, then N lines "i x y vx vy";
+ *   AY2019/20: N, L, r, S, then "print" or "perf", then N lines
+ *   "i x y vx vy" or none (the course's generator makes them). */
 #include <ctype.h>
 #include <errno.h>
 #include <math.h>
@@ -14,6 +17,7 @@ typedef struct reader {
     long line;
     char *buf;
     size_t cap;
+    int pushed;     /* the line in buf is to be read again */
 } reader;
 
 static int blank(const char *s)
@@ -26,6 +30,10 @@ static int blank(const char *s)
 /* Next line that is not blank; NULL at end of file. */
 static char *next_line(reader *rd)
 {
+    if (rd->pushed) {
+        rd->pushed = 0;
+        return rd->buf;
+    }
     for (;;) {
         ssize_t got = getline(&rd->buf, &rd->cap, rd->f);
         if (got < 0)
@@ -123,7 +131,8 @@ static int read_header(reader *rd, psim_scene *sc, psim_error *err)
         return -1;
     }
     if (!(2 * r < L)) {
-        /* a disk touching both walls could never resolve its wall collision */
+        /* a disk touching both walls could never resolve its wall collision;
+         * nor can it move in the 2019 model */
         psim_error_set(err, "%s:%ld: radius r = %g does not fit in the box: 2r must "
                        "be less than L = %g", rd->name, rd->line, r, L);
         return -1;
@@ -195,19 +204,49 @@ static int read_particle(reader *rd, psim_scene *sc, unsigned char *seen,
     return 0;
 }
 
+/* The fifth line of a 2019 scene: "print" or "perf".  Anything else is
+ * left for the particle reader (a 2024 scene). */
+static int read_mode(reader *rd, psim_scene *sc)
+{
+    char *s = next_line(rd);
+    if (!s)
+        return 0;
+    char word[8];
+    int len = 0;
+    if (sscanf(s, " %7s %n", word, &len) == 1 && s[len] == '\0' &&
+        (!strcmp(word, "print") || !strcmp(word, "perf"))) {
+        sc->format = PSIM_SCENE_2019;
+        sc->print = word[1] == 'r';
+        return 0;
+    }
+    rd->pushed = 1;
+    return 0;
+}
+
 int psim_scene_read_stream(FILE *f, const char *name, psim_scene *sc,
                            psim_error *err)
 {
-    reader rd = {f, name, 0, NULL, 0};
+    reader rd = {f, name, 0, NULL, 0, 0};
     unsigned char *seen = NULL;
     memset(sc, 0, sizeof *sc);
     int rc = -1;
-    if (read_header(&rd, sc, err))
+    if (read_header(&rd, sc, err) || read_mode(&rd, sc))
         goto done;
     seen = calloc((size_t)sc->n + 1, 1);
     if (!seen) {
         psim_error_set(err, "%s: out of memory for %ld particles", name, sc->n);
         goto done;
+    }
+    if (sc->format == PSIM_SCENE_2019) {
+        if (!next_line(&rd)) {
+            /* no particle lines: the course's generator, rand() seeded 3210 */
+            if (ferror(f) || psim_scene_generate_2019(sc, 3210, err))
+                goto gen_failed;
+            sc->generated = 1;
+            rc = 0;
+            goto done;
+        }
+        rd.pushed = 1;
     }
     for (long k = 0; k < sc->n; k++)
         if (read_particle(&rd, sc, seen, k, err))
@@ -222,6 +261,14 @@ int psim_scene_read_stream(FILE *f, const char *name, psim_scene *sc,
         goto done;
     }
     rc = 0;
+    goto done;
+gen_failed:
+    if (ferror(f))
+        psim_error_set(err, "%s: read error: %s", name, strerror(errno));
+    else {
+        psim_error t = *err;
+        psim_error_set(err, "%s:%ld: %s", name, rd.line, t.msg);
+    }
 done:
     free(seen);
     free(rd.buf);

@@ -40,16 +40,12 @@ int psim_write_stats_json(FILE *f, const psim_sim *e, const char *scene_name,
     fprintf(f, "  \"grid_cells\": %d,\n  \"cell_side\": %s,\n  \"tile_cells\": %d,\n"
                "  \"tiles\": %d,\n", s->grid_cells, h, s->tile_cells, s->tiles);
     fprintf(f, "  \"time_s\": %.6f,\n  \"phases_s\": {", total_s);
-    for (int p = 0; p < PSIM_PHASE_COUNT; p++)
-        fprintf(f, "%s\"%s\": %.6f", p ? ", " : "", psim_phase_name((psim_phase)p),
-                s->phase_s[p]);
-    fprintf(f, "},\n  \"contacts\": %llu,\n  \"rounds\": %llu,\n  \"max_rounds\": %llu,\n"
-               "  \"pair_checks\": %llu,\n  \"pair_resolutions\": %llu,\n"
-               "  \"wall_resolutions\": %llu,\n  \"tasks\": %llu%s\n%s}\n",
-            (unsigned long long)s->contacts, (unsigned long long)s->rounds,
-            (unsigned long long)s->max_rounds, (unsigned long long)s->pair_checks,
-            (unsigned long long)s->pair_resolutions,
-            (unsigned long long)s->wall_resolutions, (unsigned long long)s->tasks,
-            extra ? "," : "", extra ? extra : "");
+    for (int p = 0; p < s->nphases; p++)
+        fprintf(f, "%s\"%s\": %.6f", p ? ", " : "", s->phase_name[p], s->phase_s[p]);
+    fprintf(f, "}");
+    for (int k = 0; k < s->ncounters; k++)
+        fprintf(f, ",\n  \"%s\": %llu", s->counter_name[k],
+                (unsigned long long)s->counter[k]);
+    fprintf(f, "%s\n%s}\n", extra ? "," : "", extra ? extra : "");
     return ferror(f) ? -1 : 0;
 }

@@ -1,12 +1,52 @@
-#include "model.h"
+/* The models psim knows.  Adding a model: a folder under src/models/ that
+ * defines one psim_model, its files in CMakeLists.txt, and one line in
+ * the list below. */
+#include <string.h>
+
+#include "models.h"
 
 extern const psim_model psim_model_discrete;
+extern const psim_model psim_model_ccd;
 
-const psim_model *psim_model_get(psim_model_id id)
+static const psim_model *const models[] = {
+    &psim_model_discrete,   /* CS3210 AY2024/25: move, then collisions to a fixpoint */
+    &psim_model_ccd,        /* CS3210 AY2019/20: time-of-impact collisions */
+};
+
+#define NMODELS ((int)(sizeof models / sizeof models[0]))
+
+int psim_model_count(void) { return NMODELS; }
+
+const char *psim_model_name(int k)
 {
-    switch (id) {
-    case PSIM_MODEL_DISCRETE:
-        return &psim_model_discrete;
-    }
+    return k >= 0 && k < NMODELS ? models[k]->name : NULL;
+}
+
+const char *psim_model_summary(int k)
+{
+    return k >= 0 && k < NMODELS ? models[k]->summary : NULL;
+}
+
+const psim_model *psim_model_find(const char *name)
+{
+    for (int k = 0; k < NMODELS; k++)
+        if (strcmp(models[k]->name, name) == 0)
+            return models[k];
     return NULL;
+}
+
+const char *psim_default_model(const psim_scene *sc)
+{
+    return sc->format == PSIM_SCENE_2019 ? "ccd" : "discrete";
+}
+
+psim_sim *psim_create(const psim_scene *sc, const psim_config *cfg, psim_error *err)
+{
+    const char *name = cfg->model ? cfg->model : psim_default_model(sc);
+    const psim_model *m = psim_model_find(name);
+    if (!m) {
+        psim_error_set(err, "unknown model '%s' (psim models lists them)", name);
+        return NULL;
+    }
+    return psim_engine_create(sc, cfg, m, err);
 }

@@ -28,7 +28,7 @@ static void test_grid_ranks(void)
 {
     psim_grid g;
     /* L / 2r = 50 cells would fit; 10000 particles allow up to 200 */
-    CHECK(psim_grid_init(&g, 100.0, 1.0, 10000, 4, NULL) == 0);
+    CHECK(psim_grid_init(&g, 100.0, 1.0, 2.0 * (1.0), 10000, 4, NULL) == 0);
     CHECK(g.G == 49 || g.G == 50);
     CHECK(g.h > 2.0);
     /* ranks are a permutation that follows Morton order */
@@ -57,7 +57,7 @@ static void test_grid_ranks(void)
 static void test_grid_clamp(void)
 {
     psim_grid g;
-    CHECK(psim_grid_init(&g, 10.0, 1.0, 100, 0, NULL) == 0);
+    CHECK(psim_grid_init(&g, 10.0, 1.0, 2.0 * (1.0), 100, 0, NULL) == 0);
     CHECK(g.G == 4); /* side 2.5 > 2r */
     CHECK(psim_grid_coord(&g, -5.0, 0.0) == 0);
     CHECK(psim_grid_coord(&g, -1e300, 0.0) == 0);
@@ -76,11 +76,11 @@ static void test_grid_clamp(void)
     psim_grid_free(&g);
 
     /* a huge sparse box: cells capped by the particle count */
-    CHECK(psim_grid_init(&g, 1e9, 0.5, 100, 0, NULL) == 0);
+    CHECK(psim_grid_init(&g, 1e9, 0.5, 2.0 * (0.5), 100, 0, NULL) == 0);
     CHECK(g.G <= 20);
     psim_grid_free(&g);
     /* radius larger than the box: one cell */
-    CHECK(psim_grid_init(&g, 1.0, 5.0, 100, 0, NULL) == 0);
+    CHECK(psim_grid_init(&g, 1.0, 5.0, 2.0 * (5.0), 100, 0, NULL) == 0);
     CHECK(g.G == 1 && g.ntiles == 1);
     psim_grid_free(&g);
 }
@@ -91,7 +91,7 @@ static void test_grid_bbox(void)
     psim_grid g;
     /* a cluster in [100, 200]^2 of a box of side 1e6 */
     double bbox[4] = {100, 100, 200, 200};
-    CHECK(psim_grid_init(&g, 1e6, 1.0, 30000, 4, bbox) == 0);
+    CHECK(psim_grid_init(&g, 1e6, 1.0, 2.0 * (1.0), 30000, 4, bbox) == 0);
     CHECK(g.G == 49 && g.h > 2.0 && g.x0 == 100 && g.y0 == 100);
     CHECK(psim_grid_coord(&g, 150.0, g.x0) == (int)(50.0 / g.h));
     CHECK(psim_grid_coord(&g, 99.0, g.x0) == 0);     /* clamped */
@@ -107,7 +107,7 @@ static void test_grid_bbox(void)
     /* a region reaching past the right wall: cells within r of x = L are
      * wall cells even inside the grid */
     double over[4] = {0, 0, 200, 200};
-    CHECK(psim_grid_init(&g, 100.0, 1.0, 40000, 1, over) == 0);
+    CHECK(psim_grid_init(&g, 100.0, 1.0, 2.0 * (1.0), 40000, 1, over) == 0);
     for (uint32_t c = 0; c < g.ncells; c++) {
         double xlo = g.x0 + g.cell_x[c] * g.h, xhi = xlo + g.h;
         if (xlo < 99.0 && xhi > 99.0) /* holds x + r = L */
@@ -120,7 +120,7 @@ static void test_grid_bbox(void)
 
     /* all disks at one point: one cell */
     double point[4] = {5, 5, 5, 5};
-    CHECK(psim_grid_init(&g, 10.0, 1.0, 100, 0, point) == 0);
+    CHECK(psim_grid_init(&g, 10.0, 1.0, 2.0 * (1.0), 100, 0, point) == 0);
     CHECK(g.G == 1);
     psim_grid_free(&g);
 }

@@ -33,7 +33,7 @@ static void test_sort(int threads, const psim_store *ref_after)
     psim_grid g;
     psim_store st;
     psim_sorter so;
-    CHECK(psim_grid_init(&g, 100.0, 0.5, (long)n, 0, NULL) == 0);
+    CHECK(psim_grid_init(&g, 100.0, 0.5, 2.0 * (0.5), (long)n, 0, NULL) == 0);
     CHECK(psim_store_init(&st, n) == 0);
     CHECK(psim_sorter_init(&so, threads, g.ncells) == 0);
     fill(&st, n, 100.0);

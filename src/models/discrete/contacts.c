@@ -157,7 +157,7 @@ __attribute__((noinline)) void discrete_find_contacts(psim_sim *e, dmodel *m)
             double t0 = psim_now();
             ch->oom = (uint8_t)(search_cells(e, m, ch->tile, ch->c0, ch->c1, &ch->in,
                                              ch->cross) != 0);
-            psim_tstat_add(e->tstats, PSIM_PHASE_CONTACTS, psim_now() - t0, 1, b - a);
+            psim_tstat_add(e->tstats, DPHASE_CONTACTS, psim_now() - t0, 1, b - a);
         }
 #pragma omp for schedule(dynamic, 1)
         for (uint32_t t = 0; t < m->ntiles; t++) {
@@ -168,12 +168,12 @@ __attribute__((noinline)) void discrete_find_contacts(psim_sim *e, dmodel *m)
             }
             double t0 = psim_now();
             join_chunks(m, t);
-            psim_tstat_add(e->tstats, PSIM_PHASE_CONTACTS, psim_now() - t0, 0, 0);
+            psim_tstat_add(e->tstats, DPHASE_CONTACTS, psim_now() - t0, 0, 0);
             found += tile->in.n;
             for (int d = 0; d < DIRS; d++)
                 found += tile->cross[d].n;
         }
     }
-    e->stats.contacts += found;
+    e->stats.counter[DC_CONTACTS] += found;
     m->step_contacts = found;
 }

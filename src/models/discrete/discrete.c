@@ -1,4 +1,5 @@
 /* The discrete model behind the model interface. */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -94,10 +95,27 @@ static void destroy(void *p)
     free(m);
 }
 
-static void *create(psim_sim *e, psim_error *err)
+/* {xmin, ymin, xmax, ymax} of the disks' centres */
+static const double *bounding_box(const psim_scene *sc, double *b)
 {
+    b[0] = b[2] = sc->x[0];
+    b[1] = b[3] = sc->y[0];
+    for (long i = 1; i < sc->n; i++) {
+        b[0] = fmin(b[0], sc->x[i]);
+        b[2] = fmax(b[2], sc->x[i]);
+        b[1] = fmin(b[1], sc->y[i]);
+        b[3] = fmax(b[3], sc->y[i]);
+    }
+    return b;
+}
+
+static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
+{
+    double bbox[4];
     dmodel *m = calloc(1, sizeof *m);
-    if (!m)
+    /* cells wider than 2r over the disks' bounding box: contacts are in
+     * the same or adjacent cells */
+    if (!m || psim_engine_grid(e, 2.0 * e->r, sc->n > 0 ? bounding_box(sc, bbox) : NULL))
         goto oom;
     m->ntiles = e->grid.ntiles;
     m->four_r2 = 4.0 * e->r * e->r;
@@ -137,7 +155,7 @@ __attribute__((noinline)) static void drift(psim_sim *e, void *p)
 static int interact(psim_sim *e, void *p, psim_error *err)
 {
     dmodel *m = p;
-    PSIM_TIMED(e, PSIM_PHASE_CONTACTS, discrete_find_contacts(e, m));
+    PSIM_TIMED(e, DPHASE_CONTACTS, discrete_find_contacts(e, m));
     for (uint32_t t = 0; t < m->ntiles; t++)
         if (m->tiles[t].oom) {
             psim_error_set(err, "out of memory for contacts at step %ld",
@@ -145,7 +163,7 @@ static int interact(psim_sim *e, void *p, psim_error *err)
             return -1;
         }
     int rc;
-    PSIM_TIMED(e, PSIM_PHASE_RESOLVE, rc = discrete_resolve(e, m));
+    PSIM_TIMED(e, DPHASE_RESOLVE, rc = discrete_resolve(e, m));
     if (rc) {
         psim_error_set(err,
             "step %ld: collisions did not settle within %d resolutions per "
@@ -156,8 +174,26 @@ static int interact(psim_sim *e, void *p, psim_error *err)
     return 0;
 }
 
+static void step_summary(FILE *f, const psim_stats *st)
+{
+    double steps = st->steps > 0 ? (double)st->steps : 1.0;
+    const uint64_t *c = st->counter;
+    fprintf(f, "  per step: %.0f contacts, %.1f rounds (max %llu), %.0f pair and %.0f wall "
+               "resolutions, %.0f tasks\n",
+            (double)c[DC_CONTACTS] / steps, (double)c[DC_ROUNDS] / steps,
+            (unsigned long long)c[DC_MAX_ROUNDS], (double)c[DC_PAIR_RES] / steps,
+            (double)c[DC_WALL_RES] / steps, (double)c[DC_TASKS] / steps);
+}
+
 const psim_model psim_model_discrete = {
     .name = "discrete",
+    .summary = "CS3210 AY2024/25: move every disk, then resolve collisions to a fixpoint",
+    .phases = {"contacts", "resolve", NULL},
+    .counters = {"contacts", "rounds", "max_rounds", "pair_checks", "pair_resolutions",
+                 "wall_resolutions", "tasks", NULL},
+    .output = {0, 0, 0},
+    .output_digits = -1,
+    .step_summary = step_summary,
     .create = create,
     .drift = drift,
     .interact = interact,

@@ -21,6 +21,11 @@
 
 #include "../../engine/engine.h"
 
+/* The model's own phases and logged quantities (psim_stats). */
+enum { DPHASE_CONTACTS = PSIM_PHASE_MODEL, DPHASE_RESOLVE };
+enum { DC_CONTACTS, DC_ROUNDS, DC_MAX_ROUNDS, DC_PAIR_CHECKS, DC_PAIR_RES,
+       DC_WALL_RES, DC_TASKS };
+
 /* A contact: disks i < j in store order.  Positions are frozen while
  * collisions are resolved, so dp = p_j - p_i is recomputed from them when
  * needed (the same bits every time) instead of being stored: 8 bytes a

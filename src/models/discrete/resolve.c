@@ -200,7 +200,7 @@ static uint64_t emit_round(const psim_sim *e, dmodel *m, int first)
         {
             double t0 = psim_now();
             tile_task(e, m, t, first);
-            psim_tstat_add(e->tstats, PSIM_PHASE_RESOLVE, psim_now() - t0, 1, t->p1 - t->p0);
+            psim_tstat_add(e->tstats, DPHASE_RESOLVE, psim_now() - t0, 1, t->p1 - t->p0);
         }
     }
     for (size_t k = 0; k < m->nedges; k++) {
@@ -214,7 +214,7 @@ static uint64_t emit_round(const psim_sim *e, dmodel *m, int first)
         {
             double t0 = psim_now();
             edge_task(e, m, k, first);
-            psim_tstat_add(e->tstats, PSIM_PHASE_RESOLVE, psim_now() - t0, 1, 0);
+            psim_tstat_add(e->tstats, DPHASE_RESOLVE, psim_now() - t0, 1, 0);
         }
     }
     return tasks;
@@ -272,13 +272,13 @@ __attribute__((noinline)) int discrete_resolve(psim_sim *e, dmodel *m)
     }
     for (uint32_t ti = 0; ti < m->ntiles; ti++) {
         const dtile *t = &m->tiles[ti];
-        e->stats.pair_checks += t->checks;
-        e->stats.pair_resolutions += t->pair_res;
-        e->stats.wall_resolutions += t->wall_res;
+        e->stats.counter[DC_PAIR_CHECKS] += t->checks;
+        e->stats.counter[DC_PAIR_RES] += t->pair_res;
+        e->stats.counter[DC_WALL_RES] += t->wall_res;
     }
-    e->stats.rounds += rounds;
-    if (rounds > e->stats.max_rounds)
-        e->stats.max_rounds = rounds;
-    e->stats.tasks += tasks;
+    e->stats.counter[DC_ROUNDS] += rounds;
+    if (rounds > e->stats.counter[DC_MAX_ROUNDS])
+        e->stats.counter[DC_MAX_ROUNDS] = rounds;
+    e->stats.counter[DC_TASKS] += tasks;
     return settled ? 0 : -1;
 }

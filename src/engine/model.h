@@ -1,0 +1,62 @@
+/* The model interface: what the engine calls each step.
+ *
+ * The engine owns the particles (store), the grid and the sort; it knows
+ * no model by name.  A model is one value of this type, defined in its own
+ * folder under src/models/ and listed in src/models/models.c, the layer
+ * that composes engine and models.
+ *
+ * A step: drift (optional; before the sort, timed as the engine's "move"
+ * phase), the engine's sort by cell (only if the model asked for a grid),
+ * then interact, where the model times its own phases (named in phases[],
+ * numbered from PSIM_PHASE_MODEL) and adds to its counters (named in
+ * counters[]).  With --check, check compares the state before and after. */
+#ifndef PSIM_ENGINE_MODEL_H
+#define PSIM_ENGINE_MODEL_H
+#include <stdio.h>
+
+#include "psim/psim.h"
+
+struct psim_sim;
+
+/* The state of every particle by id, as it was before a step. */
+typedef struct psim_snapshot {
+    long n;
+    double *x, *y, *vx, *vy;
+} psim_snapshot;
+
+#define PSIM_MODEL_PHASES (PSIM_PHASES_MAX - PSIM_PHASE_MODEL)
+
+typedef struct psim_model {
+    const char *name;
+    const char *summary;                          /* one line for psim models */
+    const char *phases[PSIM_MODEL_PHASES + 1];    /* its own phases, NULL-terminated */
+    const char *counters[PSIM_COUNTERS_MAX + 1];  /* logged quantities, NULL-terminated */
+    psim_output_style output;                     /* how its source prints */
+    int output_digits;                            /* default decimals; -1: shortest */
+
+    void *(*create)(struct psim_sim *e, const psim_scene *sc, psim_error *err);
+    void (*drift)(struct psim_sim *e, void *m);                 /* optional */
+    int (*interact)(struct psim_sim *e, void *m, psim_error *err);
+    int (*check)(struct psim_sim *e, void *m, const psim_snapshot *before,
+                 const psim_snapshot *after, psim_error *err);  /* optional */
+    /* optional: its source's output format (default psim_write_state) */
+    int (*write_state)(struct psim_sim *e, void *m, FILE *f, long step,
+                       int final, int digits);
+    /* optional: the "per step:" line of the run summary */
+    void (*step_summary)(FILE *f, const psim_stats *st);
+    void (*destroy)(void *m);
+} psim_model;
+
+/* Create a simulation of sc with model m (the composing layer's call). */
+struct psim_sim *psim_engine_create(const psim_scene *sc, const psim_config *cfg,
+                                    const psim_model *m, psim_error *err);
+/* Give the simulation a grid of cells no narrower than reach (and sort by
+ * it every step), over bbox = {xmin, ymin, xmax, ymax} or, if NULL, the
+ * box.  May be called again to re-plan it.  Returns 0 or -1 (no memory). */
+int psim_engine_grid(struct psim_sim *e, double reach, const double *bbox);
+/* Sort the store by cell now (after a re-plan), timed as the sort. */
+void psim_engine_sort(struct psim_sim *e);
+/* Index of the counter called name in the stats (-1 if none). */
+int psim_engine_counter(const struct psim_sim *e, const char *name);
+
+#endif

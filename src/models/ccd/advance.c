@@ -1,0 +1,67 @@
+/* The move: accepted collisions, then free flight for every other disk.
+ * Each disk is in at most one accepted collision, which reads and writes
+ * only its own disks, so both loops run in parallel with no ordering. */
+#include <omp.h>
+
+#include "ccd.h"
+#include "rules.h"
+#include "../../engine/tstats.h"
+
+static void apply(const ccand *c, psim_store *s, cmodel *m)
+{
+    const double L = m->L, r = m->r, t = c->t;
+    double *x = s->x, *y = s->y, *vx = s->vx, *vy = s->vy;
+    uint32_t p = c->sp;
+    x[p] += vx[p] * t;
+    y[p] += vy[p] * t;
+    if (c->q < 0) {
+        m->wcoll[c->p]++;
+        ccd_wall_reflect(x[p], y[p], &vx[p], &vy[p], L, r);
+        ccd_rest(&x[p], &y[p], vx[p], vy[p], 1 - t, L, r);
+        return;
+    }
+    uint32_t q = c->sq;
+    x[q] += vx[q] * t;
+    y[q] += vy[q] * t;
+    m->pcoll[c->p]++;
+    m->pcoll[c->q]++;
+    ccd_pair_bounce(x[p], y[p], &vx[p], &vy[p], x[q], y[q], &vx[q], &vy[q]);
+    ccd_rest(&x[p], &y[p], vx[p], vy[p], 1 - t, L, r);
+    ccd_rest(&x[q], &y[q], vx[q], vy[q], 1 - t, L, r);
+}
+
+void ccd_advance(psim_sim *e, cmodel *m)
+{
+    psim_store *s = &e->st;
+    const size_t n = s->n, na = m->acc.n, nall = m->all.n;
+#pragma omp parallel num_threads(e->threads)
+    {
+        double t0 = psim_now();
+        uint64_t walls = 0;
+#pragma omp for schedule(static)
+        for (size_t k = 0; k < na; k++) {
+            apply(&m->acc.c[k], s, m);
+            walls += m->acc.c[k].q < 0;
+        }
+        int T = omp_get_num_threads(), me = omp_get_thread_num();
+        size_t lo = psim_part_lo(n, T, me), hi = psim_part_lo(n, T, me + 1);
+        for (size_t i = lo; i < hi; i++)
+            if (!m->busy[i]) {
+                s->x[i] += s->vx[i];
+                s->y[i] += s->vy[i];
+            }
+#pragma omp barrier
+        /* busy flags back to 0 for the next step */
+#pragma omp for schedule(static)
+        for (size_t k = 0; k < nall; k++) {
+            m->busy[m->all.c[k].sp] = 0;
+            if (m->all.c[k].q >= 0)
+                m->busy[m->all.c[k].sq] = 0;
+        }
+        psim_tstat_add(e->tstats, PSIM_PHASE_MOVE, psim_now() - t0, 1, hi - lo);
+        if (e->tstats)
+            e->tstats[me].wall_resolutions += walls;
+    }
+    for (size_t k = 0; k < na; k++)
+        e->stats.counter[m->acc.c[k].q < 0 ? CC_WALL_COLLISIONS : CC_PAIR_COLLISIONS]++;
+}

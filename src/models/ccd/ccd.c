@@ -1,0 +1,184 @@
+/* The ccd model behind the model interface: its grid, its step, and its
+ * output in the authors' format. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <omp.h>
+
+#include "ccd.h"
+#include "../../engine/mem.h"
+#include "../../engine/tstats.h"
+
+/* Largest displacement of one disk in a step: max |vx| + |vy| >= |v|. */
+static double max_displacement(const psim_sim *e)
+{
+    const psim_store *s = &e->st;
+    double v = 0;
+#pragma omp parallel for schedule(static) reduction(max : v) num_threads(e->threads)
+    for (size_t i = 0; i < s->n; i++) {
+        double d = fabs(s->vx[i]) + fabs(s->vy[i]);
+        if (d > v)
+            v = d;
+    }
+    return v;
+}
+
+/* Slack on the swept boxes and the cells against round-off: the rules'
+ * arithmetic can make a candidate of a pair whose exact closest approach
+ * is a little over 2r (by about sqrt(eps) of the distances involved). */
+static double margin_for(const cmodel *m, double vmax)
+{
+    return 1e-6 * (m->L + 2 * vmax + m->r);
+}
+
+/* Cells must be wider than 2r plus the largest displacement of two disks;
+ * re-plan when they are not, or when they are far wider than needed. */
+static int fit_grid(psim_sim *e, cmodel *m, int *regridded)
+{
+    double vmax = max_displacement(e);
+    m->vmax = vmax;
+    m->margin = margin_for(m, vmax);
+    double reach = 2 * m->r + 2 * vmax + 2 * m->margin;
+    *regridded = 0;
+    if (e->has_grid && reach <= e->grid.h &&
+        !(reach * 3 < e->grid.h && e->grid.G < (int)ceil(sqrt((double)e->n / 3.0))))
+        return 0;
+    *regridded = 1;
+    /* 10% slack so that slowly growing speeds do not re-plan every step */
+    double want = fmin(reach * 1.1, m->L * 2);
+    return psim_engine_grid(e, want > reach ? want : reach, NULL);
+}
+
+static void destroy(void *p)
+{
+    cmodel *m = p;
+    if (!m)
+        return;
+    psim_free(m->bx0), psim_free(m->bx1), psim_free(m->by0), psim_free(m->by1);
+    psim_free(m->sx0), psim_free(m->sx1), psim_free(m->sy0), psim_free(m->sy1);
+    psim_free(m->ord);
+    for (int t = 0; m->lists && t < m->nlists; t++)
+        psim_free(m->lists[t].c);
+    free(m->lists);
+    psim_free(m->all.c);
+    psim_free(m->acc.c);
+    psim_free(m->busy);
+    psim_free(m->best);
+    psim_free(m->live);
+    free(m->pcoll);
+    free(m->wcoll);
+    free(m);
+}
+
+static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
+{
+    (void)sc;
+    cmodel *m = calloc(1, sizeof *m);
+    if (!m)
+        goto oom;
+    m->L = e->L;
+    m->r = e->r;
+    const char *mode = getenv("PSIM_CCD_ACCEPT");
+    m->accept_mode = !mode ? CCD_ACCEPT_AUTO
+                   : !strcmp(mode, "seq") ? CCD_ACCEPT_SEQ
+                   : !strcmp(mode, "par") ? CCD_ACCEPT_PAR : CCD_ACCEPT_AUTO;
+    size_t n = (size_t)e->n + 1, d = n * sizeof(double);
+    m->bx0 = psim_alloc(d), m->bx1 = psim_alloc(d), m->by0 = psim_alloc(d), m->by1 = psim_alloc(d);
+    m->sx0 = psim_alloc(d), m->sx1 = psim_alloc(d), m->sy0 = psim_alloc(d), m->sy1 = psim_alloc(d);
+    m->ord = psim_alloc(n * sizeof *m->ord);
+    m->busy = psim_calloc(n);
+    m->best = psim_alloc(n * sizeof *m->best);
+    m->pcoll = calloc(n, sizeof *m->pcoll);
+    m->wcoll = calloc(n, sizeof *m->wcoll);
+    m->nlists = e->threads;
+    m->lists = calloc((size_t)m->nlists, sizeof *m->lists);
+    int regridded;
+    if (!m->bx0 || !m->bx1 || !m->by0 || !m->by1 || !m->sx0 || !m->sx1 || !m->sy0 ||
+        !m->sy1 || !m->ord || !m->busy || !m->best || !m->pcoll || !m->wcoll || !m->lists ||
+        fit_grid(e, m, &regridded))
+        goto oom;
+    return m;
+oom:
+    destroy(m);
+    psim_error_set(err, "out of memory for the ccd model");
+    return NULL;
+}
+
+static int interact(psim_sim *e, void *p, psim_error *err)
+{
+    cmodel *m = p;
+    int regridded, rc = 0;
+    PSIM_TIMED(e, CPHASE_DETECT, rc = fit_grid(e, m, &regridded));
+    if (rc == 0 && regridded) {
+        e->stats.counter[CC_REGRIDS]++;
+        psim_engine_sort(e);
+    }
+    m->oom = 0;
+    if (rc == 0)
+        PSIM_TIMED(e, CPHASE_DETECT, ccd_detect(e, m));
+    if (rc == 0 && !m->oom)
+        PSIM_TIMED(e, CPHASE_ORDER, rc = ccd_order(e, m));
+    if (rc == 0 && !m->oom)
+        PSIM_TIMED(e, CPHASE_ACCEPT, rc = ccd_accept(e, m));
+    if (rc || m->oom) {
+        psim_error_set(err, "out of memory for the candidates of step %ld", e->step + 1);
+        return -1;
+    }
+    PSIM_TIMED(e, PSIM_PHASE_MOVE, ccd_advance(e, m));
+    return 0;
+}
+
+/* The authors' lines: "step i x y vx vy" with %.8f numbers (printf's, so
+ * -0.00000000 for negative zero), and the final step with each disk's
+ * pair and wall collision counts. */
+static int write_state(psim_sim *e, void *p, FILE *f, long step, int final, int digits)
+{
+    cmodel *m = p;
+    size_t n = (size_t)e->n, b = (n ? n : 1) * sizeof(double);
+    double *x = malloc(b), *y = malloc(b), *vx = malloc(b), *vy = malloc(b);
+    int rc = -1;
+    if (x && y && vx && vy) {
+        psim_get_state(e, x, y, vx, vy);
+        rc = 0;
+        for (size_t i = 0; i < n && rc == 0; i++) {
+            int w = final ? fprintf(f, "%ld %zu %.*f %.*f %.*f %.*f %lld %lld\n", step, i,
+                                    digits, x[i], digits, y[i], digits, vx[i], digits,
+                                    vy[i], (long long)m->pcoll[i], (long long)m->wcoll[i])
+                          : fprintf(f, "%ld %zu %.*f %.*f %.*f %.*f\n", step, i, digits,
+                                    x[i], digits, y[i], digits, vx[i], digits, vy[i]);
+            if (w < 0)
+                rc = -1;
+        }
+    }
+    free(x), free(y), free(vx), free(vy);
+    return rc;
+}
+
+static void step_summary(FILE *f, const psim_stats *st)
+{
+    double steps = st->steps > 0 ? (double)st->steps : 1.0;
+    const uint64_t *c = st->counter;
+    fprintf(f, "  per step: %.0f pair tests, %.1f pair and %.1f wall candidates, "
+               "%.1f pair and %.1f wall collisions, %.0f tasks, %.1f accept rounds\n",
+            (double)c[CC_PAIR_TESTS] / steps, (double)c[CC_PAIR_CANDIDATES] / steps,
+            (double)c[CC_WALL_CANDIDATES] / steps, (double)c[CC_PAIR_COLLISIONS] / steps,
+            (double)c[CC_WALL_COLLISIONS] / steps, (double)c[CC_TASKS] / steps,
+            (double)c[CC_ACCEPT_ROUNDS] / steps);
+}
+
+const psim_model psim_model_ccd = {
+    .name = "ccd",
+    .summary = "CS3210 AY2019/20: time-of-impact collisions, one per disk per step",
+    .phases = {"detect", "order", "accept", NULL},
+    .counters = {"pair_tests", "pair_candidates", "wall_candidates", "pair_collisions",
+                 "wall_collisions", "accept_rounds", "tasks", "regrids", NULL},
+    .output = {1, 1, 1},
+    .output_digits = 8,
+    .create = create,
+    .interact = interact,
+    .check = ccd_check,
+    .write_state = write_state,
+    .step_summary = step_summary,
+    .destroy = destroy,
+};

@@ -1,0 +1,164 @@
+/* Ordering and acceptance of the candidates.
+ *
+ * Order: the authors' total order, by time; at equal times the lower disk
+ * P first; for the same P the wall first, then the lower Q.  Each thread's
+ * candidates are sorted in parallel, then merged.
+ *
+ * Acceptance: greedily in that order, a candidate whose disks are both
+ * still free this step.  The greedy pass is sequential by definition; its
+ * parallel formulation: a candidate that comes first among the live
+ * candidates of each of its disks is accepted by the greedy pass too
+ * (nothing earlier can take its disks), so each round accepts every such
+ * candidate at once, in parallel, then drops the candidates that touch a
+ * disk just taken.  Rounds repeat until none is live.  This yields exactly
+ * the greedy set (the greedy set of a fixed edge order is the unique set
+ * built by repeatedly taking locally first edges), for any thread count.
+ * Measured against the sequential pass in docs/performance.md. */
+#include <stdlib.h>
+#include <string.h>
+
+#include <omp.h>
+
+#include "ccd.h"
+#include "../../engine/mem.h"
+#include "../../engine/tstats.h"
+
+int ccd_cand_cmp(const ccand *a, const ccand *b)
+{
+    if (a->t != b->t)
+        return a->t < b->t ? -1 : 1;
+    if (a->p != b->p)
+        return a->p < b->p ? -1 : 1;
+    return (a->q > b->q) - (a->q < b->q); /* the wall (q = -1) first */
+}
+
+static int cmp_void(const void *a, const void *b) { return ccd_cand_cmp(a, b); }
+
+int ccd_order(psim_sim *e, cmodel *m)
+{
+    size_t total = 0;
+    for (int t = 0; t < m->nlists; t++)
+        total += m->lists[t].n;
+    if (psim_reserve((void **)&m->all.c, &m->all.cap, total + 1, sizeof *m->all.c))
+        return -1;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(e->threads)
+    for (int t = 0; t < m->nlists; t++) {
+        double t0 = psim_now();
+        qsort(m->lists[t].c, m->lists[t].n, sizeof *m->lists[t].c, cmp_void);
+        psim_tstat_add(e->tstats, CPHASE_ORDER, psim_now() - t0, 1, m->lists[t].n);
+    }
+    /* k-way merge of the sorted lists (k = threads) */
+    size_t head[64] = {0};
+    int k = m->nlists;
+    for (size_t o = 0; o < total; o++) {
+        int best = -1;
+        for (int t = 0; t < k; t++)
+            if (head[t] < m->lists[t].n &&
+                (best < 0 || ccd_cand_cmp(&m->lists[t].c[head[t]],
+                                          &m->lists[best].c[head[best]]) < 0))
+                best = t;
+        m->all.c[o] = m->lists[best].c[head[best]++];
+    }
+    m->all.n = total;
+    return 0;
+}
+
+/* The greedy pass, sequential. */
+static void accept_seq(cmodel *m)
+{
+    m->acc.n = 0;
+    for (size_t k = 0; k < m->all.n; k++) {
+        const ccand *c = &m->all.c[k];
+        if (m->busy[c->sp] || (c->q >= 0 && m->busy[c->sq]))
+            continue;
+        m->busy[c->sp] = 1;
+        if (c->q >= 0)
+            m->busy[c->sq] = 1;
+        m->acc.c[m->acc.n++] = *c;
+    }
+}
+
+static inline void atomic_min_u32(uint32_t *p, uint32_t v)
+{
+    uint32_t cur = __atomic_load_n(p, __ATOMIC_RELAXED);
+    while (v < cur && !__atomic_compare_exchange_n(p, &cur, v, 1, __ATOMIC_RELAXED,
+                                                   __ATOMIC_RELAXED))
+        ;
+}
+
+/* The same set in parallel rounds of locally first candidates. */
+static uint64_t accept_par(psim_sim *e, cmodel *m)
+{
+    const size_t n = m->all.n;
+    const ccand *c = m->all.c;
+    uint64_t rounds = 0;
+    int more = 1;
+    memset(m->live, 1, n);
+    while (more) {
+        rounds++;
+        more = 0;
+#pragma omp parallel num_threads(e->threads)
+        {
+#pragma omp for schedule(static)
+            for (size_t k = 0; k < n; k++) {
+                m->best[c[k].sp] = UINT32_MAX;
+                if (c[k].q >= 0)
+                    m->best[c[k].sq] = UINT32_MAX;
+            }
+#pragma omp for schedule(static)
+            for (size_t k = 0; k < n; k++)
+                if (m->live[k]) {
+                    atomic_min_u32(&m->best[c[k].sp], (uint32_t)k);
+                    if (c[k].q >= 0)
+                        atomic_min_u32(&m->best[c[k].sq], (uint32_t)k);
+                }
+#pragma omp for schedule(static)
+            for (size_t k = 0; k < n; k++)
+                if (m->live[k] && m->best[c[k].sp] == k &&
+                    (c[k].q < 0 || m->best[c[k].sq] == k)) {
+                    m->busy[c[k].sp] = 1;
+                    if (c[k].q >= 0)
+                        m->busy[c[k].sq] = 1;
+                    m->live[k] = 2; /* accepted */
+                }
+#pragma omp for schedule(static) reduction(|| : more)
+            for (size_t k = 0; k < n; k++)
+                if (m->live[k] == 1) {
+                    if (m->busy[c[k].sp] || (c[k].q >= 0 && m->busy[c[k].sq]))
+                        m->live[k] = 0;
+                    else
+                        more = 1;
+                }
+        }
+    }
+    m->acc.n = 0;
+    for (size_t k = 0; k < n; k++)
+        if (m->live[k] == 2)
+            m->acc.c[m->acc.n++] = c[k];
+    return rounds;
+}
+
+/* Candidates at or above this count are accepted in parallel rounds when
+ * the mode is automatic (measured: docs/performance.md). */
+#define PAR_ACCEPT_MIN 65536
+
+int ccd_accept(psim_sim *e, cmodel *m)
+{
+    const size_t n = m->all.n;
+    if (psim_reserve((void **)&m->acc.c, &m->acc.cap, n + 1, sizeof *m->acc.c) ||
+        psim_reserve((void **)&m->live, &m->live_cap, n + 1, 1))
+        return -1;
+    double t0 = psim_now();
+    int par = m->accept_mode == CCD_ACCEPT_PAR ||
+              (m->accept_mode == CCD_ACCEPT_AUTO && e->threads > 1 && n >= PAR_ACCEPT_MIN);
+    uint64_t rounds = 1;
+    if (par)
+        rounds = accept_par(e, m);
+    else
+        accept_seq(m);
+    psim_tstat_add(e->tstats, CPHASE_ACCEPT, psim_now() - t0, rounds, n);
+    e->stats.counter[CC_ACCEPT_ROUNDS] += rounds;
+    for (size_t k = 0; k < n; k++)
+        e->stats.counter[m->all.c[k].q < 0 ? CC_WALL_CANDIDATES : CC_PAIR_CANDIDATES]++;
+    return 0;
+}
