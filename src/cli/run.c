@@ -288,7 +288,7 @@ static int simulate(const run_opts *o, psim_sim *s, long steps, run_state *rs,
 
 static int on_stdout(const outfile *o)
 {
-    return o->f && o->path && strcmp(o->path, "-") == 0;
+    return o->f == stdout;
 }
 
 int cli_run(int argc, char **argv)

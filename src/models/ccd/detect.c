@@ -106,12 +106,11 @@ typedef struct detect_ctx {
     double L, r;
 } detect_ctx;
 
-/* Test the pair of sorted places a, b with the exact rule. */
+/* Test the pair of sorted places a, b (their boxes overlap) with the
+ * exact rule. */
 static inline int test_pair(const detect_ctx *c, uint32_t a, uint32_t b, clist *out)
 {
     const cmodel *m = c->m;
-    if (m->sy0[a] > m->sy1[b] || m->sy0[b] > m->sy1[a])
-        return 0;
     const psim_store *s = c->s;
     uint32_t i = m->ord[a], j = m->ord[b];
     if (s->id[i] > s->id[j]) {
@@ -170,8 +169,21 @@ static uint64_t detect_range(const detect_ctx *c, uint32_t cell, uint32_t k0, ui
             if (ccd_list_push(out, &k))
                 c->m->oom = 1;
         }
-        for (uint32_t b = a + 1; b < a1 && m->sx0[b] <= m->sx1[a]; b++)
-            tests += (uint64_t)test_pair(c, a, b, out);
+        /* places whose boxes overlap a's in y, gathered without a branch,
+         * then tested (a data-dependent branch here mispredicts often) */
+        const double ya0 = m->sy0[a], ya1 = m->sy1[a], xa1 = m->sx1[a];
+        uint32_t buf[256], nb = 0;
+        for (uint32_t b = a + 1; b < a1 && m->sx0[b] <= xa1; b++) {
+            buf[nb] = b;
+            nb += (m->sy0[b] <= ya1) & (ya0 <= m->sy1[b]);
+            if (nb == 256) {
+                for (uint32_t u = 0; u < nb; u++)
+                    tests += (uint64_t)test_pair(c, a, buf[u], out);
+                nb = 0;
+            }
+        }
+        for (uint32_t u = 0; u < nb; u++)
+            tests += (uint64_t)test_pair(c, a, buf[u], out);
     }
     int cx = g->cell_x[cell], cy = g->cell_y[cell];
     for (int d = 0; d < 4; d++) {
@@ -187,7 +199,7 @@ static uint64_t detect_range(const detect_ctx *c, uint32_t cell, uint32_t k0, ui
              * sx0[a] - wmax[nb] end before a's box starts */
             for (uint32_t b = lower(m->sx0, b0, b1, m->sx0[a] - wmax[nb]);
                  b < b1 && m->sx0[b] <= m->sx1[a]; b++)
-                if (m->sx1[b] >= m->sx0[a])
+                if (m->sx1[b] >= m->sx0[a] && m->sy0[b] <= m->sy1[a] && m->sy0[a] <= m->sy1[b])
                     tests += (uint64_t)test_pair(c, a, b, out);
         }
     }
