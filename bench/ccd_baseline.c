@@ -189,5 +189,7 @@ int main(int argc, char **argv)
             print_state(s, 0);
     }
     print_state(S, 1);
+    free(C), free(busy), free(X), free(Y), free(VX), free(VY), free(PC), free(WC);
+    fclose(f);
     return 0;
 }

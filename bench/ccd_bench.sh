@@ -90,6 +90,8 @@ base_time() {  # scene nruns -> median wall time
     median "${ts[@]}"
 }
 
+echo "load average at start: $(cut -d" " -f1-3 /proc/loadavg) (other processes on the machine disturb the 2-thread runs most)"
+
 # --- correctness check ----------------------------------------------------------
 for s in gen_1k gen_10k; do
     "$psim" -q --threads 2 "$tmp/$s.in" > "$tmp/$s.psim.out"
@@ -140,3 +142,4 @@ mx, my = sum(xs) / len(xs), sum(ys) / len(ys)
 slope = sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / sum((x - mx) ** 2 for x in xs)
 print("slope: %.3f  (log-log least squares of psim 1-thread time per step vs N, slow scenes 1e4..1e6)" % slope)
 EOF
+echo "load average at end: $(cut -d" " -f1-3 /proc/loadavg)"

@@ -44,7 +44,8 @@ int ccd_order(psim_sim *e, cmodel *m)
 #pragma omp parallel for schedule(dynamic, 1) num_threads(e->threads)
     for (int t = 0; t < m->nlists; t++) {
         double t0 = psim_now();
-        qsort(m->lists[t].c, m->lists[t].n, sizeof *m->lists[t].c, cmp_void);
+        if (m->lists[t].n > 1)
+            qsort(m->lists[t].c, m->lists[t].n, sizeof *m->lists[t].c, cmp_void);
         psim_tstat_add(e->tstats, CPHASE_ORDER, psim_now() - t0, 1, m->lists[t].n);
     }
     /* k-way merge of the sorted lists (k = threads) */
