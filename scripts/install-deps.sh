@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Install psim's build and test dependencies on Debian 12 (as root or with sudo).
 set -euo pipefail
-pkgs=(build-essential cmake ninja-build pkg-config libjemalloc-dev libhwloc-dev
+pkgs=(build-essential g++ cmake ninja-build pkg-config libjemalloc-dev libhwloc-dev
       hwloc python3 python3-matplotlib python3-pil)
 missing=()
 for p in "${pkgs[@]}"; do
