@@ -30,8 +30,10 @@ void psim_error_set(psim_error *err, const char *fmt, ...)
 /* Scene formats: the course edition each comes from. */
 typedef enum {
     PSIM_SCENE_2024 = 0,  /* CS3210 AY2024/25: N, L, r, S, then N particle lines */
-    PSIM_SCENE_2019       /* CS3210 AY2019/20: N, L, r, S, print|perf, then
+    PSIM_SCENE_2019,      /* CS3210 AY2019/20: N, L, r, S, print|perf, then
                            * optionally N particle lines (else generated) */
+    PSIM_SCENE_CS267      /* Berkeley CS267 HW2: made by its initialisation
+                           * from n and a seed (psim_generate_scene) */
 } psim_scene_format;
 
 /* A scene, by particle id 0..n-1. */
@@ -107,12 +109,20 @@ const char *psim_model_name(int k);
 const char *psim_model_summary(int k);   /* one line */
 /* The model a scene of this format is run with by default. */
 const char *psim_default_model(const psim_scene *sc);
+/* Option i of model k: its name and one line of help; -1 past the last. */
+int psim_model_option_info(int k, int i, const char **name, const char **help);
+/* Build the initial state of model's source for n particles from seed
+ * (the force model: CS267's shuffled grid); model NULL: the first model
+ * that has one.  -1 with err set when the model has none. */
+int psim_generate_scene(const char *model, long n, uint64_t seed, psim_scene *sc,
+                        psim_error *err);
 
 typedef struct psim_config {
     const char *model;  /* a model name; NULL: the scene format's default */
     int threads;        /* <= 0: omp_get_max_threads() */
     int tile_cells;     /* cells per tile side (power of two); 0: automatic */
     int check;          /* validate every step (the course's checks) */
+    const char *options; /* the model's options, "KEY=VALUE,KEY=VALUE" */
 } psim_config;
 
 void psim_config_default(psim_config *cfg);
@@ -206,13 +216,25 @@ int psim_write_state(FILE *f, long step, long n, const double *x,
  * at the start of each line, final marks the last state of the run (some
  * sources add columns there), digits < 0 the model's default. */
 int psim_write_output(psim_sim *s, FILE *f, long step, int final, int digits);
-/* How the model's source prints: to standard output by default, the state
- * before the first step, and the state after every step of a "print"
- * scene.  All 0 for a model that writes only what --out asks for. */
+/* The state in psim's own format (psim_write_state) for --trace; digits < 0
+ * the model's default. */
+int psim_write_trace(psim_sim *s, FILE *f, long step, int digits);
+/* How the model's source prints: to standard output by default (else only
+ * to --out), the state before the first step, after every step of a
+ * "print" scene, after steps 1, 1 + period, 1 + 2 period, ... (period > 0:
+ * CS267's frames) and after the last step. */
 typedef struct psim_output_style {
     int to_stdout, initial, every_step;
+    long period;
+    int final;
 } psim_output_style;
 psim_output_style psim_get_output_style(const psim_sim *s);
+/* The model's header line of an output file (nothing for most models). */
+int psim_write_header(psim_sim *s, FILE *f);
+/* The lines its source prints at the end of a run (CS267: "Simulation
+ * Time = T seconds for N particles."), given the run's time in seconds;
+ * nothing for a model whose source prints none. */
+void psim_print_source_summary(FILE *f, const psim_sim *s, double seconds);
 
 /* Write the run's statistics as one JSON object.  scene_name may be NULL;
  * extra, if not NULL, holds more members ("key": value, ...) to include. */

@@ -15,6 +15,12 @@
 typedef struct run_opts {
     const char *scene, *out, *trace, *stats, *model;
     long threads, steps, digits, tile, substeps;
+    long n;                 /* -n: the model's own initial state (-1: none) */
+    unsigned long long seed;
+    const char *s_text;     /* -s: the steps, or with -n the seed (CS267) */
+    int seed_given;
+    char *options;          /* --option, --naive, --force-stats: "K=V,..." */
+    char label[96];         /* the scene, for messages */
     int check, quiet, report;
     cli_pin pin;
 } run_opts;
@@ -32,24 +38,37 @@ static void run_usage(FILE *f)
 "AY2024/25 format (N, L, r, S, then N lines 'i x y vx vy') run with the\n"
 "discrete model by default; scenes of the AY2019/20 format (N, L, r, S, then\n"
 "'print' or 'perf', then optionally the particle lines) with the ccd model.\n"
-"Without SCENE, run the built-in default scene (20000 disks, density 0.5,\n"
-"100 steps).  SCENE '-' reads standard input.  THREADS, as in the course's\n"
-"'sim.perf input.in 8', is the same as --threads.\n"
+"With -n N, the model makes its source's own initial state of N particles\n"
+"instead (the force model: CS267 HW2's, as 'psim -n 1000 -s 1 -o out.txt').\n"
+"Without SCENE or -n, run the built-in default scene (20000 disks, density\n"
+"0.5, 100 steps).  SCENE '-' reads standard input.  THREADS, as in the\n"
+"course's 'sim.perf input.in 8', is the same as --threads.\n"
 "\n"
 "options:\n"
-"  -m, --model NAME  discrete or ccd (default: the scene format's model)\n"
+"  -m, --model NAME  discrete, ccd or force (default: the scene's; with -n,\n"
+"                    force)\n"
 "  -t, --threads N   OpenMP threads (default: OMP_NUM_THREADS, else all cores;\n"
 "                    with --pin, one per core of the policy)\n"
-"  -s, --steps S     run S steps instead of the scene's\n"
-"  -o, --out FILE    discrete: write the final state, lines 'S i x y vx vy'\n"
-"                    in id order; ccd: write what the authors' program prints\n"
-"                    (default: standard output; the summary goes to stderr):\n"
-"                    step 0, every step of a 'print' scene, and the last step\n"
-"                    with each disk's pair and wall collision counts\n"
+"  -s S              --steps S; with -n, --seed S (CS267's flags)\n"
+"      --steps S     run S steps instead of the scene's\n"
+"  -n N              the model's own initial state of N particles\n"
+"      --seed S      its seed (default 0; 0 is a seed like any other)\n"
+"  -O, --option K=V  a model option (psim models lists them); repeatable\n"
+"      --naive       --option naive=1: the force model's O(n^2) loops\n"
+"      --force-stats --option stats=1: CS267's older absmin and absavg\n"
+"  -o, --out FILE    what the model's source writes: discrete, the final\n"
+"                    state, lines 'S i x y vx vy' in id order; ccd, what its\n"
+"                    authors' program prints (default: standard output; the\n"
+"                    summary goes to stderr): step 0, every step of a 'print'\n"
+"                    scene, and the last step with each disk's pair and wall\n"
+"                    collision counts; force, CS267's file: 'n size', then\n"
+"                    'x y' frames after steps 1, 11, 21, ...\n"
 "      --trace FILE  write the state after every step 1..S: 'k i x y vx vy'\n"
 "      --digits N    fixed N decimals (8 gives the course's format); default:\n"
-"                    discrete, the shortest text that reads back to the same\n"
-"                    double; ccd, 8 (as its authors print, -0.00000000 too)\n"
+"                    discrete and force, the shortest text that reads back to\n"
+"                    the same double; ccd, 8 (as its authors print,\n"
+"                    -0.00000000 too).  force's --out: N significant digits\n"
+"                    (default 6, as C++ streams print)\n"
 "      --substeps K  the 2019 authors' SLOW_FACTOR: velocities divided by K,\n"
 "                    steps multiplied by K (lines are numbered by sub-step)\n"
 "      --check       validate every step as the course's validator does\n"
@@ -87,10 +106,64 @@ static int known_model(const char *name)
     return 0;
 }
 
+/* --seed: a whole number in [0, 2^64). */
+static int cli_seed(const char *opt, const char *text, unsigned long long *out)
+{
+    char *end;
+    errno = 0;
+    unsigned long long v = strtoull(text, &end, 10);
+    if (!*text || *end || errno || text[0] == '-') {
+        fprintf(stderr, "psim: %s: '%s' is not a whole number in [0, 2^64)\n", opt, text);
+        return -1;
+    }
+    *out = v;
+    return 0;
+}
+
+/* Append "K=V" to the model options (checked against the model later). */
+static int add_option(run_opts *o, const char *kv)
+{
+    if (!strchr(kv, '=') || strchr(kv, ',')) {
+        fprintf(stderr, "psim: --option: expected NAME=VALUE, got '%s'\n", kv);
+        return -1;
+    }
+    char *joined;
+    if (asprintf(&joined, "%s%s%s", o->options ? o->options : "", o->options ? "," : "",
+                 kv) < 0) {
+        fprintf(stderr, "psim: out of memory\n");
+        return -1;
+    }
+    free(o->options);
+    o->options = joined;
+    return 0;
+}
+
+/* -s is the steps, except after -n where it is CS267's -s SEED. */
+static int resolve_s(run_opts *o)
+{
+    if (!o->s_text)
+        return 0;
+    if (o->n >= 0) {
+        if (o->seed_given) {
+            fprintf(stderr, "psim: -s and --seed both give the seed\n");
+            return -1;
+        }
+        o->seed_given = 1;
+        return cli_seed("-s", o->s_text, &o->seed);
+    }
+    if (o->steps >= 0) {
+        fprintf(stderr, "psim: -s and --steps both give the steps\n");
+        return -1;
+    }
+    return cli_long("-s", o->s_text, 0, 1000000000L, &o->steps);
+}
+
 static int parse_run(int argc, char **argv, run_opts *o)
 {
     static const struct option longs[] = {
-        {"threads", required_argument, 0, 't'}, {"steps", required_argument, 0, 's'},
+        {"threads", required_argument, 0, 't'}, {"steps", required_argument, 0, 'P'},
+        {"seed", required_argument, 0, 'e'},    {"option", required_argument, 0, 'O'},
+        {"naive", no_argument, 0, 'N'},         {"force-stats", no_argument, 0, 'F'},
         {"out", required_argument, 0, 'o'},     {"trace", required_argument, 0, 'T'},
         {"digits", required_argument, 0, 'd'},  {"check", no_argument, 0, 'c'},
         {"stats", required_argument, 0, 'S'},   {"tile", required_argument, 0, 'L'},
@@ -106,11 +179,12 @@ static int parse_run(int argc, char **argv, run_opts *o)
         {0, 0, 0, 0}};
     memset(o, 0, sizeof *o);
     o->steps = -1;
+    o->n = -1;
     o->digits = -1;
     o->substeps = 1;
     opterr = 0;
     int c;
-    while ((c = getopt_long(argc, argv, ":t:s:o:m:qhV", longs, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, ":t:s:o:m:n:O:qhV", longs, NULL)) != -1) {
         switch (c) {
         case 'm':
             if (!known_model(optarg)) {
@@ -121,7 +195,13 @@ static int parse_run(int argc, char **argv, run_opts *o)
             break;
         case 'K': if (cli_long("--substeps", optarg, 1, 1000000, &o->substeps)) return 2; break;
         case 't': if (cli_long("--threads", optarg, 1, 4096, &o->threads)) return 2; break;
-        case 's': if (cli_long("--steps", optarg, 0, 1000000000L, &o->steps)) return 2; break;
+        case 's': o->s_text = optarg; break;
+        case 'P': if (cli_long("--steps", optarg, 0, 1000000000L, &o->steps)) return 2; break;
+        case 'n': if (cli_long("-n", optarg, 0, 1000000000L, &o->n)) return 2; break;
+        case 'e': if (cli_seed("--seed", optarg, &o->seed)) return 2; o->seed_given = 1; break;
+        case 'O': if (add_option(o, optarg)) return 2; break;
+        case 'N': if (add_option(o, "naive=1")) return 2; break;
+        case 'F': if (add_option(o, "stats=1")) return 2; break;
         case 'o': o->out = optarg; break;
         case 'T': o->trace = optarg; break;
         case 'd': if (cli_long("--digits", optarg, 0, PSIM_DIGITS_MAX, &o->digits)) return 2; break;
@@ -146,6 +226,8 @@ static int parse_run(int argc, char **argv, run_opts *o)
             return 2;
         }
     }
+    if (resolve_s(o))
+        return 2;
     int rest = argc - optind;
     if (rest > 2) {
         fprintf(stderr, "psim: too many arguments: '%s' (usage: psim [OPTIONS] [SCENE [THREADS]])\n",
@@ -154,6 +236,14 @@ static int parse_run(int argc, char **argv, run_opts *o)
     }
     if (rest >= 1)
         o->scene = argv[optind];
+    if (o->scene && o->n >= 0) {
+        fprintf(stderr, "psim: -n makes the scene: give -n or SCENE '%s', not both\n", o->scene);
+        return 2;
+    }
+    if (o->seed_given && o->n < 0) {
+        fprintf(stderr, "psim: --seed needs -n (the seed of the model's own initial state)\n");
+        return 2;
+    }
     if (rest == 2) {
         long t;
         if (cli_long("THREADS", argv[optind + 1], 1, 4096, &t))
@@ -183,8 +273,13 @@ static int default_scene(psim_scene *sc, psim_error *err)
     return psim_scene_generate(&p, sc, err);
 }
 
-static int load_scene(const run_opts *o, psim_scene *sc, psim_error *err)
+static int load_scene(run_opts *o, psim_scene *sc, psim_error *err)
 {
+    if (o->n >= 0) {
+        snprintf(o->label, sizeof o->label, "n %ld, seed %llu", o->n, o->seed);
+        return psim_generate_scene(o->model, o->n, o->seed, sc, err);
+    }
+    snprintf(o->label, sizeof o->label, "%s", o->scene ? o->scene : "default scene");
     if (!o->scene)
         return default_scene(sc, err);
     if (strcmp(o->scene, "-") == 0)
@@ -206,13 +301,21 @@ static int write_out(psim_sim *s, FILE *f, long step, int final, long digits)
     return rc;
 }
 
+static int write_trace(psim_sim *s, FILE *f, long step, long digits)
+{
+    double t0 = psim_now();
+    int rc = psim_write_trace(s, f, step, (int)digits);
+    psim_add_output_time(s, psim_now() - t0);
+    return rc;
+}
+
 static void print_summary(FILE *f, const run_opts *o, const psim_scene *sc,
                           const psim_sim *s, double secs)
 {
     const psim_stats *st = psim_get_stats(s);
     double steps = st->steps > 0 ? (double)st->steps : 1.0;
     fprintf(f, "psim %s: %s model, %s: %ld disks, L %g, r %g, density %.3f\n",
-            PSIM_VERSION, psim_sim_model(s), o->scene ? o->scene : "default scene", sc->n,
+            PSIM_VERSION, psim_sim_model(s), o->label, sc->n,
             sc->L, sc->r, psim_scene_density(sc));
     fprintf(f, "  %ld steps on %d threads in %.3f s (%.3f ms/step)%s\n", st->steps,
             st->threads, secs, 1e3 * secs / steps, o->check ? ", every step checked" : "");
@@ -249,17 +352,25 @@ static void abort_outputs(run_state *rs)
     outfile_abort(&rs->stats);
 }
 
-/* The states due after step k of steps: the trace every step; the
- * model's own output every step of a print scene (its last step with
- * final set, written after the loop). */
+/* Whether the model's output holds the state after step k of steps (the
+ * last one, if final, is written after the loop with its own columns). */
+static int out_due(const run_state *rs, long k, long steps)
+{
+    if (rs->style.final && k == steps)
+        return 0;
+    return rs->print || (rs->style.period > 0 && (k - 1) % rs->style.period == 0);
+}
+
+/* The states due after step k of steps: the trace every step, the
+ * model's output as its source writes it. */
 static int write_step(const run_opts *o, psim_sim *s, long k, long steps, run_state *rs,
                       psim_error *err)
 {
-    if (rs->trace.f && write_out(s, rs->trace.f, k, 0, o->digits)) {
+    if (rs->trace.f && write_trace(s, rs->trace.f, k, o->digits)) {
         psim_error_set(err, "%s: write failed", o->trace);
         return -1;
     }
-    if (rs->out.f && rs->print && k < steps && write_out(s, rs->out.f, k, 0, o->digits)) {
+    if (rs->out.f && out_due(rs, k, steps) && write_out(s, rs->out.f, k, 0, o->digits)) {
         psim_error_set(err, "%s: write failed", rs->out.name);
         return -1;
     }
@@ -272,7 +383,8 @@ static int simulate(const run_opts *o, psim_sim *s, long steps, run_state *rs,
     progress pb;
     progress_init(&pb, steps, o->quiet);
     int rc = 0;
-    if (rs->out.f && rs->style.initial && write_out(s, rs->out.f, 0, 0, o->digits)) {
+    if (rs->out.f && (psim_write_header(s, rs->out.f) ||
+                      (rs->style.initial && write_out(s, rs->out.f, 0, 0, o->digits)))) {
         psim_error_set(err, "%s: write failed", rs->out.name);
         rc = -1;
     }
@@ -326,6 +438,7 @@ int cli_run(int argc, char **argv)
     cfg.threads = o.pin.plan.threads;
     cfg.tile_cells = (int)o.tile;
     cfg.check = o.check;
+    cfg.options = o.options;
     s = psim_create(&sc, &cfg, &err);
     if (!s) {
         fprintf(stderr, "psim: %s\n", err.msg);
@@ -337,13 +450,14 @@ int cli_run(int argc, char **argv)
         goto done;
     double t0 = psim_now();
     if (simulate(&o, s, steps, &rs, &err)) {
-        fprintf(stderr, "psim: %s%s%s\n", o.scene ? o.scene : "default scene", ": ",
-                err.msg);
+        fprintf(stderr, "psim: %s: %s\n", o.label, err.msg);
         goto done;
     }
-    /* the steps' time, without the states written between them */
-    double secs = psim_now() - t0 - psim_get_stats(s)->phase_s[PSIM_PHASE_OUTPUT];
-    if (rs.out.f && write_out(s, rs.out.f, steps, 1, o.digits)) {
+    /* the steps' time, without the states written between them (the
+     * course's own figure, for the source's summary, includes them) */
+    double loop_s = psim_now() - t0;
+    double secs = loop_s - psim_get_stats(s)->phase_s[PSIM_PHASE_OUTPUT];
+    if (rs.out.f && rs.style.final && write_out(s, rs.out.f, steps, 1, o.digits)) {
         fprintf(stderr, "psim: %s: write failed\n", rs.out.name);
         goto done;
     }
@@ -354,7 +468,8 @@ int cli_run(int argc, char **argv)
         char *extra = NULL;
         if (pin_json && thr_json && asprintf(&extra, "%s,\n%s\n", pin_json, thr_json) < 0)
             extra = NULL;
-        psim_write_stats_json(rs.stats.f, s, o.scene ? o.scene : "default", secs, extra);
+        psim_write_stats_json(rs.stats.f, s,
+                              o.scene ? o.scene : o.n >= 0 ? o.label : "default", secs, extra);
         free(pin_json), free(thr_json), free(extra);
     }
     /* the summary goes to stderr when an output is on stdout */
@@ -364,6 +479,7 @@ int cli_run(int argc, char **argv)
     if (outfile_commit_all(outs, 3))
         goto done;
     if (!o.quiet) {
+        psim_print_source_summary(info, s, loop_s);
         print_summary(info, &o, &sc, s, secs);
         cli_pin_summary(info, &o.pin);
     }
@@ -377,6 +493,7 @@ int cli_run(int argc, char **argv)
 done:
     abort_outputs(&rs);
     cli_pin_free(&o.pin);
+    free(o.options);
     psim_destroy(s);
     psim_scene_free(&sc);
     return rc;
@@ -390,7 +507,11 @@ int cli_models(int argc, char **argv)
         fprintf(stderr, "psim models: unexpected argument '%s'\n", argv[1]);
         return 2;
     }
-    for (int k = 0; k < psim_model_count(); k++)
+    for (int k = 0; k < psim_model_count(); k++) {
         printf("%-10s %s\n", psim_model_name(k), psim_model_summary(k));
+        const char *name, *help;
+        for (int i = 0; psim_model_option_info(k, i, &name, &help) == 0; i++)
+            printf("%-10s   --option %s=V: %s\n", "", name, help);
+    }
     return 0;
 }

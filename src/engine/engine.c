@@ -1,5 +1,6 @@
 #include "engine.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -89,13 +90,73 @@ static int snapshot_alloc(psim_snapshot *s, long n)
     return (s->x && s->y && s->vx && s->vy) ? 0 : -1;
 }
 
-static void snapshot_free(psim_snapshot *s)
+void psim_snapshot_free(psim_snapshot *s)
 {
     psim_free(s->x);
     psim_free(s->y);
     psim_free(s->vx);
     psim_free(s->vy);
     memset(s, 0, sizeof *s);
+}
+
+/* "name" of option k of the model, or -1. */
+static int option_index(const psim_model *m, const char *name, size_t len)
+{
+    for (int k = 0; k < PSIM_MODEL_OPTIONS && m->options[k].name; k++)
+        if (strlen(m->options[k].name) == len && !strncmp(m->options[k].name, name, len))
+            return k;
+    return -1;
+}
+
+static void option_names(const psim_model *m, char *buf, size_t size)
+{
+    size_t used = 0;
+    buf[0] = 0;
+    for (int k = 0; k < PSIM_MODEL_OPTIONS && m->options[k].name && used < size; k++)
+        used += (size_t)snprintf(buf + used, size - used, "%s%s", k ? ", " : "",
+                                 m->options[k].name);
+    if (!buf[0])
+        snprintf(buf, size, "none");
+}
+
+/* Parse "KEY=VALUE,KEY=VALUE" against the model's options. */
+static int parse_options(psim_sim *e, const char *text, psim_error *err)
+{
+    char names[256];
+    while (text && *text) {
+        const char *end = strchr(text, ','), *eq = strchr(text, '=');
+        size_t len = end ? (size_t)(end - text) : strlen(text);
+        if (!eq || eq >= text + len) {
+            psim_error_set(err, "option '%.*s': expected NAME=VALUE", (int)len, text);
+            return -1;
+        }
+        int k = option_index(e->model, text, (size_t)(eq - text));
+        if (k < 0) {
+            option_names(e->model, names, sizeof names);
+            psim_error_set(err, "the %s model has no option '%.*s' (its options: %s)",
+                           e->model->name, (int)(eq - text), text, names);
+            return -1;
+        }
+        const psim_model_option *o = &e->model->options[k];
+        char *stop;
+        errno = 0;
+        double v = strtod(eq + 1, &stop);
+        if (stop == eq + 1 || stop != text + len || errno || !(v >= o->lo && v <= o->hi)) {
+            psim_error_set(err, "option %s: '%.*s' is not a number in [%g, %g]", o->name,
+                           (int)(text + len - eq - 1), eq + 1, o->lo, o->hi);
+            return -1;
+        }
+        e->opt_value[k] = v;
+        e->opt_set[k] = 1;
+        text = end ? end + 1 : text + len;
+    }
+    return 0;
+}
+
+double psim_engine_option(const psim_sim *e, const char *name, double dflt)
+{
+    int k = option_index(e->model, name, strlen(name));
+    return (k >= 0 && e->opt_set[k]) ? e->opt_value[k] : dflt;
 }
 
 psim_sim *psim_engine_create(const psim_scene *sc, const psim_config *cfg,
@@ -113,6 +174,8 @@ psim_sim *psim_engine_create(const psim_scene *sc, const psim_config *cfg,
     e->r = sc->r;
     e->model = model;
     name_stats(&e->stats, model);
+    if (parse_options(e, cfg->options, err))
+        goto fail;
     if (psim_store_init(&e->st, (size_t)sc->n)) {
         psim_error_set(err, "out of memory for %ld particles", sc->n);
         goto fail;
@@ -162,8 +225,8 @@ void psim_destroy(psim_sim *e)
     psim_sorter_free(&e->sorter);
     psim_grid_free(&e->grid);
     psim_store_free(&e->st);
-    snapshot_free(&e->before);
-    snapshot_free(&e->after);
+    psim_snapshot_free(&e->before);
+    psim_snapshot_free(&e->after);
     psim_free(e->tstats);
     free(e);
 }
@@ -190,6 +253,14 @@ static void take_snapshot(const psim_sim *e, psim_snapshot *s)
     psim_get_state(e, s->x, s->y, s->vx, s->vy);
 }
 
+int psim_snapshot_take(const psim_sim *e, psim_snapshot *s)
+{
+    if (snapshot_alloc(s, e->n))
+        return -1;
+    take_snapshot(e, s);
+    return 0;
+}
+
 __attribute__((noinline)) static void phase_sort(psim_sim *e)
 {
     psim_sort_by_cell(&e->sorter, &e->st, &e->grid, e->threads, e->tstats);
@@ -207,7 +278,8 @@ int psim_step(psim_sim *e, psim_error *err)
         PSIM_TIMED(e, PSIM_PHASE_CHECK, take_snapshot(e, &e->before));
     if (e->model->drift)
         PSIM_TIMED(e, PSIM_PHASE_MOVE, e->model->drift(e, e->mstate));
-    psim_engine_sort(e);
+    if (!e->model->sorts_itself)
+        psim_engine_sort(e);
     if (e->model->interact(e, e->mstate, err))
         return -1;
     e->step++;
@@ -262,16 +334,29 @@ int psim_write_output(psim_sim *e, FILE *f, long step, int final, int digits)
     if (e->model->write_state)
         return e->model->write_state(e, e->mstate, f, step, final,
                                      digits >= 0 ? digits : e->model->output_digits);
-    size_t b = (size_t)(e->n > 0 ? e->n : 1) * sizeof(double);
-    double *x = malloc(b), *y = malloc(b), *vx = malloc(b), *vy = malloc(b);
+    return psim_write_trace(e, f, step, digits);
+}
+
+int psim_write_trace(psim_sim *e, FILE *f, long step, int digits)
+{
+    psim_snapshot s;
     int rc = -1;
-    if (x && y && vx && vy) {
-        psim_get_state(e, x, y, vx, vy);
-        rc = psim_write_state(f, step, e->n, x, y, vx, vy,
+    if (psim_snapshot_take(e, &s) == 0)
+        rc = psim_write_state(f, step, e->n, s.x, s.y, s.vx, s.vy,
                               digits >= 0 ? digits : e->model->output_digits);
-    }
-    free(x), free(y), free(vx), free(vy);
+    psim_snapshot_free(&s);
     return rc;
+}
+
+int psim_write_header(psim_sim *e, FILE *f)
+{
+    return e->model->write_header ? e->model->write_header(e, e->mstate, f) : 0;
+}
+
+void psim_print_source_summary(FILE *f, const psim_sim *e, double seconds)
+{
+    if (e->model->source_summary)
+        e->model->source_summary(f, e, e->mstate, seconds);
 }
 
 psim_output_style psim_get_output_style(const psim_sim *e) { return e->model->output; }

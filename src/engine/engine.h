@@ -26,6 +26,8 @@ struct psim_sim {
     const psim_model *model;
     void *mstate;
     psim_snapshot before, after; /* by id, for checks */
+    double opt_value[PSIM_MODEL_OPTIONS]; /* the model's options, as set */
+    int opt_set[PSIM_MODEL_OPTIONS];
 };
 
 /* Time fn(e, m) into phase p. */

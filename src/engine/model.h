@@ -25,6 +25,13 @@ typedef struct psim_snapshot {
 } psim_snapshot;
 
 #define PSIM_MODEL_PHASES (PSIM_PHASES_MAX - PSIM_PHASE_MODEL)
+#define PSIM_MODEL_OPTIONS 8
+
+/* A model option (--option NAME=VALUE): a number in [lo, hi]. */
+typedef struct psim_model_option {
+    const char *name, *help;
+    double lo, hi;
+} psim_model_option;
 
 typedef struct psim_model {
     const char *name;
@@ -33,6 +40,9 @@ typedef struct psim_model {
     const char *counters[PSIM_COUNTERS_MAX + 1];  /* logged quantities, NULL-terminated */
     psim_output_style output;                     /* how its source prints */
     int output_digits;                            /* default decimals; -1: shortest */
+    psim_model_option options[PSIM_MODEL_OPTIONS + 1]; /* name NULL ends them */
+    int sorts_itself;   /* the engine does not sort every step: the model
+                         * calls psim_engine_sort when it needs to */
 
     void *(*create)(struct psim_sim *e, const psim_scene *sc, psim_error *err);
     void (*drift)(struct psim_sim *e, void *m);                 /* optional */
@@ -42,10 +52,21 @@ typedef struct psim_model {
     /* optional: its source's output format (default psim_write_state) */
     int (*write_state)(struct psim_sim *e, void *m, FILE *f, long step,
                        int final, int digits);
+    /* optional: the header line of its source's output files */
+    int (*write_header)(struct psim_sim *e, void *m, FILE *f);
     /* optional: the "per step:" line of the run summary */
     void (*step_summary)(FILE *f, const psim_stats *st);
+    /* optional: what its source prints at the end of a run */
+    void (*source_summary)(FILE *f, const struct psim_sim *e, const void *m,
+                           double seconds);
+    /* optional: its source's own initial state of n particles from seed */
+    int (*generate)(psim_scene *sc, long n, uint64_t seed, psim_error *err);
     void (*destroy)(void *m);
 } psim_model;
+
+/* The state by id (allocated; free with psim_snapshot_free). */
+int psim_snapshot_take(const struct psim_sim *e, psim_snapshot *s);
+void psim_snapshot_free(psim_snapshot *s);
 
 /* Create a simulation of sc with model m (the composing layer's call). */
 struct psim_sim *psim_engine_create(const psim_scene *sc, const psim_config *cfg,
@@ -56,6 +77,9 @@ struct psim_sim *psim_engine_create(const psim_scene *sc, const psim_config *cfg
 int psim_engine_grid(struct psim_sim *e, double reach, const double *bbox);
 /* Sort the store by cell now (after a re-plan), timed as the sort. */
 void psim_engine_sort(struct psim_sim *e);
+/* Value of the model's option called name (one of its options[]), or dflt
+ * when the run did not set it. */
+double psim_engine_option(const struct psim_sim *e, const char *name, double dflt);
 /* Index of the counter called name in the stats (-1 if none). */
 int psim_engine_counter(const struct psim_sim *e, const char *name);
 

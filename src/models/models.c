@@ -7,10 +7,12 @@
 
 extern const psim_model psim_model_discrete;
 extern const psim_model psim_model_ccd;
+extern const psim_model psim_model_force;
 
 static const psim_model *const models[] = {
     &psim_model_discrete,   /* CS3210 AY2024/25: move, then collisions to a fixpoint */
     &psim_model_ccd,        /* CS3210 AY2019/20: time-of-impact collisions */
+    &psim_model_force,      /* Berkeley CS267 HW2: short-range repulsion */
 };
 
 #define NMODELS ((int)(sizeof models / sizeof models[0]))
@@ -37,7 +39,34 @@ const psim_model *psim_model_find(const char *name)
 
 const char *psim_default_model(const psim_scene *sc)
 {
-    return sc->format == PSIM_SCENE_2019 ? "ccd" : "discrete";
+    return sc->format == PSIM_SCENE_2019    ? "ccd"
+           : sc->format == PSIM_SCENE_CS267 ? "force"
+                                            : "discrete";
+}
+
+int psim_model_option_info(int k, int i, const char **name, const char **help)
+{
+    if (k < 0 || k >= NMODELS || i < 0 || i >= PSIM_MODEL_OPTIONS ||
+        !models[k]->options[i].name)
+        return -1;
+    *name = models[k]->options[i].name;
+    *help = models[k]->options[i].help;
+    return 0;
+}
+
+int psim_generate_scene(const char *name, long n, uint64_t seed, psim_scene *sc,
+                        psim_error *err)
+{
+    const psim_model *m = name ? psim_model_find(name) : NULL;
+    for (int k = 0; !name && !m && k < NMODELS; k++)   /* the first that has one */
+        if (models[k]->generate)
+            m = models[k];
+    if (!m || !m->generate) {
+        psim_error_set(err, "the %s model has no initialisation of its own: give a scene",
+                       m ? m->name : name);
+        return -1;
+    }
+    return m->generate(sc, n, seed, err);
 }
 
 psim_sim *psim_create(const psim_scene *sc, const psim_config *cfg, psim_error *err)

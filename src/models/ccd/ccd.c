@@ -135,23 +135,18 @@ static int interact(psim_sim *e, void *p, psim_error *err)
 static int write_state(psim_sim *e, void *p, FILE *f, long step, int final, int digits)
 {
     cmodel *m = p;
-    size_t n = (size_t)e->n, b = (n ? n : 1) * sizeof(double);
-    double *x = malloc(b), *y = malloc(b), *vx = malloc(b), *vy = malloc(b);
-    int rc = -1;
-    if (x && y && vx && vy) {
-        psim_get_state(e, x, y, vx, vy);
-        rc = 0;
-        for (size_t i = 0; i < n && rc == 0; i++) {
-            int w = final ? fprintf(f, "%ld %zu %.*f %.*f %.*f %.*f %lld %lld\n", step, i,
-                                    digits, x[i], digits, y[i], digits, vx[i], digits,
-                                    vy[i], (long long)m->pcoll[i], (long long)m->wcoll[i])
-                          : fprintf(f, "%ld %zu %.*f %.*f %.*f %.*f\n", step, i, digits,
-                                    x[i], digits, y[i], digits, vx[i], digits, vy[i]);
-            if (w < 0)
-                rc = -1;
-        }
+    psim_snapshot s;
+    int rc = psim_snapshot_take(e, &s);
+    for (long i = 0; i < e->n && rc == 0; i++) {
+        int w = final ? fprintf(f, "%ld %ld %.*f %.*f %.*f %.*f %lld %lld\n", step, i, digits,
+                                s.x[i], digits, s.y[i], digits, s.vx[i], digits, s.vy[i],
+                                (long long)m->pcoll[i], (long long)m->wcoll[i])
+                      : fprintf(f, "%ld %ld %.*f %.*f %.*f %.*f\n", step, i, digits, s.x[i],
+                                digits, s.y[i], digits, s.vx[i], digits, s.vy[i]);
+        if (w < 0)
+            rc = -1;
     }
-    free(x), free(y), free(vx), free(vy);
+    psim_snapshot_free(&s);
     return rc;
 }
 
@@ -173,7 +168,7 @@ const psim_model psim_model_ccd = {
     .phases = {"detect", "order", "accept", NULL},
     .counters = {"pair_tests", "pair_candidates", "wall_candidates", "pair_collisions",
                  "wall_collisions", "accept_rounds", "tasks", "regrids", NULL},
-    .output = {1, 1, 1},
+    .output = {.to_stdout = 1, .initial = 1, .every_step = 1, .final = 1},
     .output_digits = 8,
     .create = create,
     .interact = interact,

@@ -191,7 +191,7 @@ const psim_model psim_model_discrete = {
     .phases = {"contacts", "resolve", NULL},
     .counters = {"contacts", "rounds", "max_rounds", "pair_checks", "pair_resolutions",
                  "wall_resolutions", "tasks", NULL},
-    .output = {0, 0, 0},
+    .output = {.final = 1},
     .output_digits = -1,
     .step_summary = step_summary,
     .create = create,

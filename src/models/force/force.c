@@ -1,0 +1,212 @@
+/* The force model behind the model interface: constants, options, the
+ * step (neighbour lists or the naive loops), and the course's output. */
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "force.h"
+#include "../../engine/mem.h"
+#include "../../io/cs267_random.h"
+
+/* Default skin of the neighbour lists, in cutoffs (docs/performance.md,
+ * "force model": measured against the rebuild rate). */
+#define FORCE_SKIN 0.5
+
+/* The course's constants for its own scenes; for a scene of disks (a
+ * file), the cutoff is the contact distance 2r, a step is one time unit
+ * (velocities are per step there) and the mass makes the dynamics the
+ * course's in units where the cutoff is 0.01 and a step 0.0005. */
+static void set_law(flaw *k, const psim_sim *e, const psim_scene *sc)
+{
+    int course = sc->format == PSIM_SCENE_CS267;
+    double cutoff = psim_engine_option(e, "cutoff", course ? CS267_CUTOFF : 2 * sc->r);
+    double scale = cutoff / CS267_CUTOFF;
+    double mass = course ? CS267_MASS : CS267_MASS / (scale * scale * scale * CS267_DT * CS267_DT);
+    k->size = sc->L;
+    k->cutoff = cutoff;
+    k->mass = psim_engine_option(e, "mass", mass);
+    k->dt = psim_engine_option(e, "dt", course ? CS267_DT : 1.0);
+    k->cutoff2 = k->cutoff * k->cutoff;
+    double min_r = k->cutoff / 100;
+    k->min_r2 = min_r * min_r;
+}
+
+static void destroy(void *p)
+{
+    fmodel *m = p;
+    if (!m)
+        return;
+    for (uint32_t t = 0; m->tiles && t < m->cap_tiles; t++)
+        psim_free(m->tiles[t].nbr);
+    free(m->tiles);
+    psim_free(m->end_all);
+    free(m);
+}
+
+static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
+{
+    fmodel *m = calloc(1, sizeof *m);
+    if (!m)
+        goto oom;
+    set_law(&m->law, e, sc);
+    m->skin = psim_engine_option(e, "skin", FORCE_SKIN) * m->law.cutoff;
+    m->naive = psim_engine_option(e, "naive", 0) != 0;
+    m->stats = psim_engine_option(e, "stats", 0) != 0;
+    m->absmin = 1.0;
+    if (m->naive) {
+        if (force_plan_naive(m, e->n))
+            goto oom;
+        return m;
+    }
+    m->end_all = psim_alloc(((size_t)e->n + 1) * sizeof *m->end_all);
+    if (!m->end_all || psim_engine_grid(e, m->law.cutoff + m->skin, NULL))
+        goto oom;
+    return m;
+oom:
+    destroy(m);
+    psim_error_set(err, "out of memory for the force model");
+    return NULL;
+}
+
+/* Whether some pair within the cutoff may be missing from the lists: each
+ * particle may have moved drift (plus a few ulps of the box a step) since
+ * the build, so pairs closer than the cutoff were within cutoff + skin
+ * then unless 2 drift > skin. */
+static int lists_stale(const fmodel *m)
+{
+    double slack = (double)m->since_build * 8 * DBL_EPSILON * m->law.size;
+    return !m->built || 2 * (m->drift + slack) > m->skin;
+}
+
+static int interact(psim_sim *e, void *p, psim_error *err)
+{
+    fmodel *m = p;
+    int rc = 0;
+    if (!m->naive && lists_stale(m) && force_build_lists(e, m)) {
+        psim_error_set(err, "out of memory for the neighbour lists of step %ld", e->step + 1);
+        return -1;
+    }
+    PSIM_TIMED(e, FPHASE_FORCE,
+               rc = m->naive ? force_step_naive(e, m) : force_step_lists(e, m));
+    if (rc && !m->lost_step) {
+        m->lost_step = e->step + 1;
+        psim_error_set(err, "step %ld: a particle left the box for good (dt %g is too large "
+                            "for the force: try --option dt=...)", e->step + 1, m->law.dt);
+        return -1;
+    }
+    return 0;
+}
+
+/* Every particle inside the box, positions and velocities finite. */
+static int check(psim_sim *e, void *p, const psim_snapshot *before,
+                 const psim_snapshot *after, psim_error *err)
+{
+    const fmodel *m = p;
+    (void)before;
+    for (long i = 0; i < after->n; i++) {
+        double x = after->x[i], y = after->y[i];
+        if (!(x >= 0 && x <= m->law.size && y >= 0 && y <= m->law.size) ||
+            !isfinite(after->vx[i]) || !isfinite(after->vy[i])) {
+            psim_error_set(err, "step %ld: particle %ld at (%g, %g) with velocity (%g, %g) "
+                                "is not inside the box [0, %g]",
+                           e->step, i, x, y, after->vx[i], after->vy[i], m->law.size);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+/* The course's file: "n size", then per frame n lines "x y" as C++ streams
+ * print doubles (%g: 6 significant digits; --digits N: N) and a blank line. */
+static int write_header(psim_sim *e, void *p, FILE *f)
+{
+    const fmodel *m = p;
+    return fprintf(f, "%ld %g\n", e->n, m->law.size) < 0 ? -1 : 0;
+}
+
+static int write_state(psim_sim *e, void *p, FILE *f, long step, int final, int digits)
+{
+    (void)p, (void)step, (void)final;
+    int prec = digits < 0 ? 6 : digits;
+    psim_snapshot s;
+    int rc = psim_snapshot_take(e, &s);
+    for (long i = 0; i < e->n && rc == 0; i++)
+        if (fprintf(f, "%.*g %.*g\n", prec, s.x[i], prec, s.y[i]) < 0)
+            rc = -1;
+    if (rc == 0 && fputc('\n', f) == EOF)
+        rc = -1;
+    psim_snapshot_free(&s);
+    return rc;
+}
+
+static void source_summary(FILE *f, const psim_sim *e, const void *p, double seconds)
+{
+    const fmodel *m = p;
+    fprintf(f, "Simulation Time = %g seconds for %ld particles.\n", seconds, e->n);
+    if (!m->stats)
+        return;
+    double absavg = m->nabsavg ? m->absavg / (double)m->nabsavg : m->absavg;
+    fprintf(f, "absmin = %lf, absavg = %lf\n", m->absmin, absavg);
+    if (m->absmin < 0.4)
+        fprintf(f, "The minimum distance is below 0.4 meaning that some particle is not "
+                   "interacting\n");
+    if (absavg < 0.8)
+        fprintf(f, "The average distance is below 0.8 meaning that most particles are not "
+                   "interacting\n");
+}
+
+static void step_summary(FILE *f, const psim_stats *st)
+{
+    double steps = st->steps > 0 ? (double)st->steps : 1.0;
+    const uint64_t *c = st->counter;
+    fprintf(f, "  per step: %.0f pair tests, %.1f interactions; %.1f steps per list rebuild",
+            (double)c[FC_PAIR_TESTS] / steps, (double)c[FC_INTERACTIONS] / steps,
+            c[FC_REBUILDS] ? steps / (double)c[FC_REBUILDS] : 0.0);
+    if (c[FC_REBUILDS])
+        fprintf(f, ", %.0f list entries each", (double)c[FC_LIST_ENTRIES] / (double)c[FC_REBUILDS]);
+    fputc('\n', f);
+}
+
+/* CS267's initial state: n particles on a shuffled grid in a box of side
+ * sqrt(density n), velocities uniform in [-1, 1] (cs267_random.c). */
+static int generate(psim_scene *sc, long n, uint64_t seed, psim_error *err)
+{
+    if (psim_scene_alloc(sc, n, err))
+        return -1;
+    sc->L = sqrt(CS267_DENSITY * (double)n);
+    sc->r = CS267_CUTOFF / 2;
+    sc->steps = CS267_STEPS;
+    sc->format = PSIM_SCENE_CS267;
+    if (psim_cs267_place(n, seed, sc->L, sc->x, sc->y, sc->vx, sc->vy)) {
+        psim_error_set(err, "out of memory for %ld particles", n);
+        return -1;
+    }
+    return 0;
+}
+
+const psim_model psim_model_force = {
+    .name = "force",
+    .summary = "Berkeley CS267 HW2: short-range repulsion within a cutoff, O(n)",
+    .phases = {"nlist", "force", NULL},
+    .counters = {"pair_tests", "interactions", "rebuilds", "list_entries", "tasks", NULL},
+    .output = {.period = CS267_SAVEFREQ},
+    .output_digits = -1,
+    .options = {{"dt", "time step (CS267 scenes: 0.0005; scene files: 1, a step)", 0, 1e300},
+                {"mass", "particle mass (CS267: 0.01)", 1e-300, 1e300},
+                {"cutoff", "interaction cutoff (CS267: 0.01; scene files: 2r)", 1e-300, 1e300},
+                {"skin", "neighbour list skin, in cutoffs (default 0.5)", 0, 1e6},
+                {"naive", "1: the course's O(n^2) loops (for tests)", 0, 1},
+                {"stats", "1: the older edition's absmin/absavg (--force-stats)", 0, 1},
+                {NULL, NULL, 0, 0}},
+    .sorts_itself = 1,
+    .create = create,
+    .interact = interact,
+    .check = check,
+    .write_header = write_header,
+    .write_state = write_state,
+    .step_summary = step_summary,
+    .source_summary = source_summary,
+    .generate = generate,
+    .destroy = destroy,
+};

@@ -1,0 +1,126 @@
+/* Verlet neighbour lists of the force model, built from the engine's sort:
+ * cells are wider than the list radius (cutoff + skin), so a particle's
+ * neighbours are in its own and the eight adjacent cells.  Each list is in
+ * id order: summing a particle's forces in that order is the course's
+ * naive loop over j = 0 .. n-1 with the pairs beyond the cutoff left out,
+ * so the fast path gives the naive code's bits. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "force.h"
+#include "../../engine/mem.h"
+#include "../../engine/timer.h"
+#include "../../engine/tstats.h"
+
+/* Tiles follow the grid's; their lists are kept from build to build. */
+static int plan_tiles(psim_sim *e, fmodel *m)
+{
+    const psim_grid *g = &e->grid;
+    if (g->ntiles > m->cap_tiles) {
+        ftile *t = realloc(m->tiles, g->ntiles * sizeof *t);
+        if (!t)
+            return -1;
+        memset(t + m->cap_tiles, 0, (g->ntiles - m->cap_tiles) * sizeof *t);
+        m->tiles = t;
+        m->cap_tiles = g->ntiles;
+    }
+    m->ntiles = g->ntiles;
+    for (uint32_t t = 0; t < g->ntiles; t++) {
+        ftile *ft = &m->tiles[t];
+        ft->first = g->cellstart[g->tile_cell0[t]];
+        ft->n = g->cellstart[g->tile_cell0[t + 1]] - ft->first;
+        ft->end = m->end_all + ft->first;
+    }
+    return 0;
+}
+
+/* Insert the last entry of list[0 .. len-1] in id order. */
+static void insert_by_id(uint32_t *list, size_t len, const int32_t *id)
+{
+    uint32_t v = list[len - 1];
+    size_t k = len - 1;
+    while (k > 0 && id[list[k - 1]] > id[v]) {
+        list[k] = list[k - 1];
+        k--;
+    }
+    list[k] = v;
+}
+
+/* Append particle i's neighbours (within reach2) in id order. */
+static int list_one(const psim_sim *e, ftile *t, uint32_t i, double reach2)
+{
+    const psim_store *s = &e->st;
+    const psim_grid *g = &e->grid;
+    double px = s->x[i], py = s->y[i];
+    int cx = psim_grid_coord(g, px, g->x0), cy = psim_grid_coord(g, py, g->y0);
+    size_t begin = t->len;
+    for (int ny = cy - 1; ny <= cy + 1; ny++) {
+        if (ny < 0 || ny >= g->G)
+            continue;
+        for (int nx = cx - 1; nx <= cx + 1; nx++) {
+            if (nx < 0 || nx >= g->G)
+                continue;
+            uint32_t rank = g->rank_of_xy[(uint32_t)ny * (uint32_t)g->G + (uint32_t)nx];
+            for (uint32_t j = g->cellstart[rank]; j < g->cellstart[rank + 1]; j++) {
+                double dx = s->x[j] - px, dy = s->y[j] - py;
+                if (j == i || dx * dx + dy * dy > reach2)
+                    continue;
+                if (t->len == t->cap &&
+                    psim_reserve((void **)&t->nbr, &t->cap, t->len + 1, sizeof *t->nbr))
+                    return -1;
+                t->nbr[t->len++] = j;
+                insert_by_id(t->nbr + begin, t->len - begin, s->id);
+            }
+        }
+    }
+    return 0;
+}
+
+static int list_tile(const psim_sim *e, ftile *t, double reach2)
+{
+    t->len = 0;
+    for (uint32_t k = 0; k < t->n; k++) {
+        if (list_one(e, t, t->first + k, reach2))
+            return -1;
+        t->end[k] = (uint32_t)t->len;
+    }
+    return 0;
+}
+
+/* Sort by cell and build every tile's lists, one task per tile (the tiles
+ * write only their own lists: no dependencies). */
+int force_build_lists(psim_sim *e, fmodel *m)
+{
+    psim_engine_sort(e);
+    double t0 = psim_now();
+    if (plan_tiles(e, m))
+        return -1;
+    double reach = m->law.cutoff + m->skin, reach2 = reach * reach;
+    int oom = 0;
+    psim_thread_stats *ts = e->tstats;
+#pragma omp parallel num_threads(e->threads)
+#pragma omp single
+    for (uint32_t t = 0; t < m->ntiles; t++) {
+        ftile *ft = &m->tiles[t];
+#pragma omp task firstprivate(ft) shared(oom, ts, e) default(none) firstprivate(reach2)
+        {
+            double b0 = psim_now();
+            if (list_tile(e, ft, reach2)) {
+#pragma omp atomic write
+                oom = 1;
+            }
+            psim_tstat_add(ts, FPHASE_NLIST, psim_now() - b0, 1, ft->n);
+        }
+    }
+    uint64_t entries = 0;
+    for (uint32_t t = 0; t < m->ntiles; t++)
+        entries += m->tiles[t].len;
+    e->stats.counter[FC_LIST_ENTRIES] += entries;
+    e->stats.counter[FC_REBUILDS]++;
+    e->stats.counter[FC_TASKS] += m->ntiles;
+    e->stats.phase_s[FPHASE_NLIST] += psim_now() - t0;
+    m->drift = 0;
+    m->since_build = 0;
+    m->built = 1;
+    return oom ? -1 : 0;
+}
