@@ -47,7 +47,10 @@ static int fit_grid(psim_sim *e, cmodel *m, int *regridded)
     *regridded = 1;
     /* 10% slack so that slowly growing speeds do not re-plan every step */
     double want = fmin(reach * 1.1, m->L * 2);
-    return psim_engine_grid(e, want > reach ? want : reach, NULL);
+    if (psim_engine_grid(e, want > reach ? want : reach, NULL))
+        return -1;
+    /* per-cell state of the detection, sized here rather than every step */
+    return psim_reserve((void **)&m->wmax, &m->wmax_cap, e->grid.ncells + 1, sizeof *m->wmax);
 }
 
 static void destroy(void *p)
@@ -55,9 +58,11 @@ static void destroy(void *p)
     cmodel *m = p;
     if (!m)
         return;
-    psim_free(m->bx0), psim_free(m->bx1), psim_free(m->by0), psim_free(m->by1);
     psim_free(m->sx0), psim_free(m->sx1), psim_free(m->sy0), psim_free(m->sy1);
-    psim_free(m->ord);
+    psim_free(m->px), psim_free(m->py), psim_free(m->pvx), psim_free(m->pvy);
+    psim_free(m->pid), psim_free(m->wmax);
+    psim_free(m->ord), psim_free(m->key), psim_free(m->key2), psim_free(m->ord2);
+    ccd_bands_free(&m->bands);
     for (int t = 0; m->lists && t < m->nlists; t++)
         psim_free(m->lists[t].c);
     free(m->lists);
@@ -83,10 +88,11 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
     m->accept_mode = !mode ? CCD_ACCEPT_AUTO
                    : !strcmp(mode, "seq") ? CCD_ACCEPT_SEQ
                    : !strcmp(mode, "par") ? CCD_ACCEPT_PAR : CCD_ACCEPT_AUTO;
-    size_t n = (size_t)e->n + 1, d = n * sizeof(double);
-    m->bx0 = psim_alloc(d), m->bx1 = psim_alloc(d), m->by0 = psim_alloc(d), m->by1 = psim_alloc(d);
+    size_t n = (size_t)e->n + 1, d = n * sizeof(double), u = n * sizeof(uint32_t);
     m->sx0 = psim_alloc(d), m->sx1 = psim_alloc(d), m->sy0 = psim_alloc(d), m->sy1 = psim_alloc(d);
-    m->ord = psim_alloc(n * sizeof *m->ord);
+    m->px = psim_alloc(d), m->py = psim_alloc(d), m->pvx = psim_alloc(d), m->pvy = psim_alloc(d);
+    m->pid = psim_alloc(n * sizeof *m->pid);
+    m->ord = psim_alloc(u), m->key = psim_alloc(u), m->key2 = psim_alloc(u), m->ord2 = psim_alloc(u);
     m->busy = psim_calloc(n);
     m->best = psim_alloc(n * sizeof *m->best);
     m->pcoll = calloc(n, sizeof *m->pcoll);
@@ -94,9 +100,9 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
     m->nlists = e->threads;
     m->lists = calloc((size_t)m->nlists, sizeof *m->lists);
     int regridded;
-    if (!m->bx0 || !m->bx1 || !m->by0 || !m->by1 || !m->sx0 || !m->sx1 || !m->sy0 ||
-        !m->sy1 || !m->ord || !m->busy || !m->best || !m->pcoll || !m->wcoll || !m->lists ||
-        fit_grid(e, m, &regridded))
+    if (!m->sx0 || !m->sx1 || !m->sy0 || !m->sy1 || !m->px || !m->py || !m->pvx ||
+        !m->pvy || !m->pid || !m->ord || !m->key || !m->key2 || !m->ord2 || !m->busy ||
+        !m->best || !m->pcoll || !m->wcoll || !m->lists || fit_grid(e, m, &regridded))
         goto oom;
     return m;
 oom:

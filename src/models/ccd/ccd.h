@@ -5,9 +5,10 @@
  * so every pair that can meet within the step is in the same or adjacent
  * cells):
  *   detect  candidates: each disk's wall hit, and each pair's time of
- *           impact in [0, 1] (rules.h); parallel, OpenMP tasks over tiles
+ *           impact in [0, 1] (rules.h); parallel, OpenMP tasks over runs
  *           of cells, pairs pruned by their swept boxes (sweep and prune
- *           along x inside each cell pair);
+ *           along x; big cells, where fast disks leave one cell, also cut
+ *           into bands along y first);
  *   order   the candidates in the total order of the authors' program:
  *           time, then lower disk P, then the wall before the lower Q;
  *   accept  greedily in that order, a candidate whose disks are both still
@@ -44,15 +45,55 @@ typedef struct clist {
 /* How acceptance runs: sequential greedy, parallel rounds, or by size. */
 typedef enum { CCD_ACCEPT_AUTO = 0, CCD_ACCEPT_SEQ, CCD_ACCEPT_PAR } ccd_accept_mode;
 
+/* A big cell cut into nb bands along y, from ylo, 1 / invh apart; its
+ * bands are band0 .. band0 + nb - 1 of the model's bands. */
+typedef struct cplan {
+    uint32_t cell, band0;
+    int nb;
+    double ylo, invh;
+} cplan;
+
+/* A band: its entries [e0, e1) (followed by CCD_PAD sentinel rows), k its
+ * index in its cell (a double: the detection kernel compares it in
+ * lanes of doubles). */
+typedef struct cband {
+    uint32_t e0, e1;
+    double k;
+} cband;
+
+/* Rows after each band's entries that no box overlaps (the detection
+ * kernel reads blocks of 4 entries past a band's end). */
+#define CCD_PAD 4
+
+/* Every band's entries, this step: a copy of each row whose box meets the
+ * band (box x0, x1, y0, y1; first: the row's first band in its cell; the
+ * disk's x, y, vx, vy; row: its sorted place), in left-edge order, so that
+ * the kernel reads contiguous arrays. */
+typedef struct cbands {
+    double *x0, *x1, *y0, *y1, *first, *x, *y, *vx, *vy;
+    uint32_t *row;
+    size_t cap;             /* entries every array holds */
+    cband *band;
+    size_t nband, band_cap;
+    cplan *plan;
+    size_t nplan, plan_cap;
+} cbands;
+
 typedef struct cmodel {
     double L, r;
     double margin;          /* slack of the swept boxes against round-off */
     double vmax;            /* largest speed component bound this step */
-    /* per store place, this step: swept box, and the cell's disks sorted
-     * by the box's left edge (ord: store places; b*: boxes in that order) */
-    double *bx0, *bx1, *by0, *by1;
-    uint32_t *ord;
+    /* per store place, this step: each cell's disks sorted by the left
+     * edge of their swept box (ord: store places; key, key2, ord2: sort
+     * keys and scratch), then gathered in that order ("rows"): the box
+     * s*, and the disk's state p* and id */
+    uint32_t *ord, *key, *key2, *ord2;
     double *sx0, *sx1, *sy0, *sy1;
+    double *px, *py, *pvx, *pvy;
+    int32_t *pid;
+    double *wmax;           /* per cell: widest box (sized on regrid) */
+    size_t wmax_cap;
+    cbands bands;           /* big cells' bands */
     clist *lists;           /* one per thread */
     int nlists;
     clist all;              /* every candidate, in order */
@@ -74,5 +115,6 @@ int ccd_check(psim_sim *e, void *m, const psim_snapshot *before,
               const psim_snapshot *after, psim_error *err);
 int ccd_cand_cmp(const ccand *a, const ccand *b);
 int ccd_list_push(clist *l, const ccand *c);
+void ccd_bands_free(cbands *b);
 
 #endif
