@@ -66,10 +66,16 @@ static void name_stats(psim_stats *st, const psim_model *m)
 
 int psim_engine_grid(psim_sim *e, double reach, const double *bbox)
 {
+    return psim_engine_grid_occ(e, reach, bbox, 0);
+}
+
+int psim_engine_grid_occ(psim_sim *e, double reach, const double *bbox, double occupancy)
+{
     psim_sorter_free(&e->sorter);
     psim_grid_free(&e->grid);
     e->has_grid = 0;
-    if (psim_grid_init(&e->grid, e->L, e->r, reach, e->n, e->cfg.tile_cells, bbox) ||
+    if (psim_grid_init_occ(&e->grid, e->L, e->r, reach, e->n, e->cfg.tile_cells, bbox,
+                           occupancy) ||
         psim_sorter_init(&e->sorter, e->threads, e->grid.ncells))
         return -1;
     e->has_grid = 1;

@@ -10,10 +10,10 @@
  * cell on average, since the per-cell work of the contact search (finding
  * and opening the neighbour cells) costs more than a few extra distance
  * tests (docs/performance.md, "Cell size"). */
-static int plan_cells(double L, double reach, long n)
+static int plan_cells(double L, double reach, long n, double occupancy)
 {
     double fit = (reach > 0.0) ? floor(L / reach * (1.0 - 1e-9)) : 1e9;
-    double cap = ceil(sqrt((double)(n > 0 ? n : 1) / PSIM_CELL_PARTICLES));
+    double cap = ceil(sqrt((double)(n > 0 ? n : 1) / occupancy));
     double G = fmin(fit, cap);
     if (!(G >= 1.0))
         G = 1.0;
@@ -79,6 +79,12 @@ static int cell_near_wall(const psim_grid *g, int cx, int cy, double L, double r
 int psim_grid_init(psim_grid *g, double L, double r, double reach, long n,
                    int tile_cells, const double *bbox)
 {
+    return psim_grid_init_occ(g, L, r, reach, n, tile_cells, bbox, PSIM_CELL_PARTICLES);
+}
+
+int psim_grid_init_occ(psim_grid *g, double L, double r, double reach, long n,
+                       int tile_cells, const double *bbox, double occupancy)
+{
     memset(g, 0, sizeof *g);
     g->L = L;
     g->x0 = bbox ? bbox[0] : 0.0;
@@ -86,7 +92,7 @@ int psim_grid_init(psim_grid *g, double L, double r, double reach, long n,
     g->side = bbox ? fmax(bbox[2] - bbox[0], bbox[3] - bbox[1]) : L;
     if (!(g->side > reach)) /* one cell, or all disks at one point */
         g->side = reach * (1.0 + 1e-6) + 1e-300;
-    g->G = plan_cells(g->side, reach, n);
+    g->G = plan_cells(g->side, reach, n, occupancy > 0 ? occupancy : PSIM_CELL_PARTICLES);
     g->h = g->side / g->G;
     g->invh = g->G / g->side;
     g->bits = bits_for(g->G);

@@ -48,6 +48,10 @@ typedef struct psim_grid {
  * particles per tile. */
 int psim_grid_init(psim_grid *g, double L, double r, double reach, long n,
                    int tile_cells, const double *bbox);
+/* The same with about `occupancy` particles per cell at most (cells stay
+ * wider than reach): sparse pair searches want cells close to reach. */
+int psim_grid_init_occ(psim_grid *g, double L, double r, double reach, long n,
+                       int tile_cells, const double *bbox, double occupancy);
 void psim_grid_free(psim_grid *g);
 
 /* Cell coordinate of position v along an axis whose grid starts at origin. */

@@ -75,6 +75,9 @@ struct psim_sim *psim_engine_create(const psim_scene *sc, const psim_config *cfg
  * it every step), over bbox = {xmin, ymin, xmax, ymax} or, if NULL, the
  * box.  May be called again to re-plan it.  Returns 0 or -1 (no memory). */
 int psim_engine_grid(struct psim_sim *e, double reach, const double *bbox);
+/* The same with cells of about `occupancy` particles (0: the default). */
+int psim_engine_grid_occ(struct psim_sim *e, double reach, const double *bbox,
+                         double occupancy);
 /* Sort the store by cell now (after a re-plan), timed as the sort. */
 void psim_engine_sort(struct psim_sim *e);
 /* Value of the model's option called name (one of its options[]), or dflt

@@ -11,7 +11,11 @@
 
 /* Default skin of the neighbour lists, in cutoffs (docs/performance.md,
  * "force model": measured against the rebuild rate). */
-#define FORCE_SKIN 0.5
+#define FORCE_SKIN 2.0
+/* Cells as small as the list radius allows, up to this many particles:
+ * the lists are sparse (about one neighbour), so every candidate beyond
+ * the radius is wasted work. */
+#define FORCE_CELL_PARTICLES 1.0
 
 /* The course's constants for its own scenes; for a scene of disks (a
  * file), the cutoff is the contact distance 2r, a step is one time unit
@@ -37,8 +41,10 @@ static void destroy(void *p)
     fmodel *m = p;
     if (!m)
         return;
-    for (uint32_t t = 0; m->tiles && t < m->cap_tiles; t++)
+    for (uint32_t t = 0; m->tiles && t < m->cap_tiles; t++) {
         psim_free(m->tiles[t].nbr);
+        psim_free(m->tiles[t].cx), psim_free(m->tiles[t].cy), psim_free(m->tiles[t].cj);
+    }
     free(m->tiles);
     psim_free(m->end_all);
     free(m);
@@ -60,7 +66,8 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
         return m;
     }
     m->end_all = psim_alloc(((size_t)e->n + 1) * sizeof *m->end_all);
-    if (!m->end_all || psim_engine_grid(e, m->law.cutoff + m->skin, NULL))
+    if (!m->end_all ||
+        psim_engine_grid_occ(e, m->law.cutoff + m->skin, NULL, FORCE_CELL_PARTICLES))
         goto oom;
     return m;
 oom:
@@ -195,7 +202,7 @@ const psim_model psim_model_force = {
     .options = {{"dt", "time step (CS267 scenes: 0.0005; scene files: 1, a step)", 0, 1e300},
                 {"mass", "particle mass (CS267: 0.01)", 1e-300, 1e300},
                 {"cutoff", "interaction cutoff (CS267: 0.01; scene files: 2r)", 1e-300, 1e300},
-                {"skin", "neighbour list skin, in cutoffs (default 0.5)", 0, 1e6},
+                {"skin", "neighbour list skin, in cutoffs (default 2)", 0, 1e6},
                 {"naive", "1: the course's O(n^2) loops (for tests)", 0, 1},
                 {"stats", "1: the older edition's absmin/absavg (--force-stats)", 0, 1},
                 {NULL, NULL, 0, 0}},

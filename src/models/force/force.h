@@ -41,6 +41,9 @@ typedef struct ftile {
     uint32_t *end;
     uint32_t *nbr;          /* store places, each list in id order */
     size_t len, cap;
+    double *cx, *cy;        /* candidates of the cell being listed */
+    uint32_t *cj;
+    size_t ccap, ccap2, ccap3;
     /* this step: */
     double v2max;           /* largest squared speed after the move */
     uint64_t tests, hits;

@@ -31,7 +31,7 @@ static inline int flaw_pair(const flaw *k, double px, double py, double qx, doub
     double r2 = dx * dx + dy * dy;
     if (r2 > k->cutoff2)
         return 0;
-    r2 = fmax(r2, k->min_r2);
+    r2 = r2 >= k->min_r2 ? r2 : k->min_r2;   /* fmax(r2, min_r2), NaN too, inline */
     double r = sqrt(r2);
     double coef = (1 - k->cutoff / r) / r2 / k->mass;
     *ax += coef * dx;

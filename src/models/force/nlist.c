@@ -46,14 +46,14 @@ static void insert_by_id(uint32_t *list, size_t len, const int32_t *id)
     list[k] = v;
 }
 
-/* Append particle i's neighbours (within reach2) in id order. */
-static int list_one(const psim_sim *e, ftile *t, uint32_t i, double reach2)
+/* Gather the particles of the 3 x 3 cells around cell c into the tile's
+ * candidate buffer; returns their number, or -1 (no memory). */
+static long gather(const psim_sim *e, ftile *t, uint32_t c)
 {
     const psim_store *s = &e->st;
     const psim_grid *g = &e->grid;
-    double px = s->x[i], py = s->y[i];
-    int cx = psim_grid_coord(g, px, g->x0), cy = psim_grid_coord(g, py, g->y0);
-    size_t begin = t->len;
+    int cx = g->cell_x[c], cy = g->cell_y[c];
+    size_t k = 0;
     for (int ny = cy - 1; ny <= cy + 1; ny++) {
         if (ny < 0 || ny >= g->G)
             continue;
@@ -61,28 +61,59 @@ static int list_one(const psim_sim *e, ftile *t, uint32_t i, double reach2)
             if (nx < 0 || nx >= g->G)
                 continue;
             uint32_t rank = g->rank_of_xy[(uint32_t)ny * (uint32_t)g->G + (uint32_t)nx];
-            for (uint32_t j = g->cellstart[rank]; j < g->cellstart[rank + 1]; j++) {
-                double dx = s->x[j] - px, dy = s->y[j] - py;
-                if (j == i || dx * dx + dy * dy > reach2)
-                    continue;
-                if (t->len == t->cap &&
-                    psim_reserve((void **)&t->nbr, &t->cap, t->len + 1, sizeof *t->nbr))
-                    return -1;
-                t->nbr[t->len++] = j;
-                insert_by_id(t->nbr + begin, t->len - begin, s->id);
+            uint32_t j0 = g->cellstart[rank], j1 = g->cellstart[rank + 1];
+            if (k + (j1 - j0) > t->ccap &&
+                (psim_reserve((void **)&t->cx, &t->ccap, k + (j1 - j0), sizeof *t->cx) ||
+                 psim_reserve((void **)&t->cy, &t->ccap2, k + (j1 - j0), sizeof *t->cy) ||
+                 psim_reserve((void **)&t->cj, &t->ccap3, k + (j1 - j0), sizeof *t->cj)))
+                return -1;
+            for (uint32_t j = j0; j < j1; j++, k++) {
+                t->cx[k] = s->x[j];
+                t->cy[k] = s->y[j];
+                t->cj[k] = j;
             }
         }
     }
+    return (long)k;
+}
+
+/* Append particle i's neighbours among the nc candidates, in id order.
+ * The test is branch-free: every candidate is written, and the length
+ * grows by whether it is within reach. */
+static int list_one(const psim_sim *e, ftile *t, uint32_t i, long nc, double reach2)
+{
+    if (t->len + (size_t)nc > t->cap &&
+        psim_reserve((void **)&t->nbr, &t->cap, t->len + (size_t)nc, sizeof *t->nbr))
+        return -1;
+    double px = e->st.x[i], py = e->st.y[i];
+    size_t begin = t->len, len = begin;
+    for (long k = 0; k < nc; k++) {
+        double dx = t->cx[k] - px, dy = t->cy[k] - py;
+        t->nbr[len] = t->cj[k];
+        len += (dx * dx + dy * dy <= reach2) & (t->cj[k] != i);
+    }
+    for (size_t a = begin + 1; a < len; a++)
+        insert_by_id(t->nbr + begin, a - begin + 1, e->st.id);
+    t->len = len;
     return 0;
 }
 
-static int list_tile(const psim_sim *e, ftile *t, double reach2)
+static int list_tile(const psim_sim *e, ftile *t, uint32_t c0, uint32_t c1, double reach2)
 {
+    const psim_grid *g = &e->grid;
     t->len = 0;
-    for (uint32_t k = 0; k < t->n; k++) {
-        if (list_one(e, t, t->first + k, reach2))
+    for (uint32_t c = c0; c < c1; c++) {
+        uint32_t i0 = g->cellstart[c], i1 = g->cellstart[c + 1];
+        if (i0 == i1)
+            continue;
+        long nc = gather(e, t, c);
+        if (nc < 0)
             return -1;
-        t->end[k] = (uint32_t)t->len;
+        for (uint32_t i = i0; i < i1; i++) {
+            if (list_one(e, t, i, nc, reach2))
+                return -1;
+            t->end[i - t->first] = (uint32_t)t->len;
+        }
     }
     return 0;
 }
@@ -102,10 +133,10 @@ int force_build_lists(psim_sim *e, fmodel *m)
 #pragma omp single
     for (uint32_t t = 0; t < m->ntiles; t++) {
         ftile *ft = &m->tiles[t];
-#pragma omp task firstprivate(ft) shared(oom, ts, e) default(none) firstprivate(reach2)
+#pragma omp task firstprivate(ft, t, reach2) shared(oom, ts, e) default(none)
         {
             double b0 = psim_now();
-            if (list_tile(e, ft, reach2)) {
+            if (list_tile(e, ft, e->grid.tile_cell0[t], e->grid.tile_cell0[t + 1], reach2)) {
 #pragma omp atomic write
                 oom = 1;
             }
