@@ -44,6 +44,7 @@ static void destroy(void *p)
     for (uint32_t t = 0; m->tiles && t < m->cap_tiles; t++) {
         psim_free(m->tiles[t].nbr);
         psim_free(m->tiles[t].cx), psim_free(m->tiles[t].cy), psim_free(m->tiles[t].cj);
+        psim_free(m->tiles[t].win);
     }
     free(m->tiles);
     psim_free(m->end_all);

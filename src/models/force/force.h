@@ -43,7 +43,10 @@ typedef struct ftile {
     size_t len, cap;
     double *cx, *cy;        /* candidates of the cell being listed */
     uint32_t *cj;
-    size_t ccap, ccap2, ccap3;
+    size_t ccap;
+    uint32_t *win;          /* the tile's cells and a border: first, end */
+    size_t wcap;
+    int wx0, wy0, W;        /* the window's first cell and side */
     /* this step: */
     double v2max;           /* largest squared speed after the move */
     uint64_t tests, hits;

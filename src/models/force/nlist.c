@@ -46,33 +46,63 @@ static void insert_by_id(uint32_t *list, size_t len, const int32_t *id)
     list[k] = v;
 }
 
+/* The tile's cells and a border of one cell, row-major: where each
+ * cell's particles are in the store.  Gathering a cell's 3 x 3
+ * neighbourhood then reads this small table instead of the grid's
+ * rank table and cell starts (nine scattered reads per cell). */
+static int plan_window(const psim_sim *e, ftile *t, uint32_t tile)
+{
+    const psim_grid *g = &e->grid;
+    int S = 1 << g->tile_shift, W = S + 2;
+    t->wx0 = g->tile_x[tile] * S - 1;
+    t->wy0 = g->tile_y[tile] * S - 1;
+    t->W = W;
+    if (psim_reserve((void **)&t->win, &t->wcap, 2 * (size_t)W * (size_t)W, sizeof *t->win))
+        return -1;
+    for (int ly = 0; ly < W; ly++)
+        for (int lx = 0; lx < W; lx++) {
+            int gx = t->wx0 + lx, gy = t->wy0 + ly;
+            uint32_t *w = t->win + 2 * ((size_t)ly * (size_t)W + (size_t)lx);
+            if (gx < 0 || gy < 0 || gx >= g->G || gy >= g->G) {
+                w[0] = w[1] = 0;
+                continue;
+            }
+            uint32_t rank = g->rank_of_xy[(uint32_t)gy * (uint32_t)g->G + (uint32_t)gx];
+            w[0] = g->cellstart[rank];
+            w[1] = g->cellstart[rank + 1];
+        }
+    return 0;
+}
+
+static int reserve_candidates(ftile *t, size_t need)
+{
+    if (need <= t->ccap)
+        return 0;
+    size_t c2 = t->ccap, c3 = t->ccap;
+    return psim_reserve((void **)&t->cy, &c2, need, sizeof *t->cy) ||
+           psim_reserve((void **)&t->cj, &c3, need, sizeof *t->cj) ||
+           psim_reserve((void **)&t->cx, &t->ccap, need, sizeof *t->cx);
+}
+
 /* Gather the particles of the 3 x 3 cells around cell c into the tile's
  * candidate buffer; returns their number, or -1 (no memory). */
 static long gather(const psim_sim *e, ftile *t, uint32_t c)
 {
     const psim_store *s = &e->st;
     const psim_grid *g = &e->grid;
-    int cx = g->cell_x[c], cy = g->cell_y[c];
+    int lx = g->cell_x[c] - t->wx0, ly = g->cell_y[c] - t->wy0;
     size_t k = 0;
-    for (int ny = cy - 1; ny <= cy + 1; ny++) {
-        if (ny < 0 || ny >= g->G)
-            continue;
-        for (int nx = cx - 1; nx <= cx + 1; nx++) {
-            if (nx < 0 || nx >= g->G)
-                continue;
-            uint32_t rank = g->rank_of_xy[(uint32_t)ny * (uint32_t)g->G + (uint32_t)nx];
-            uint32_t j0 = g->cellstart[rank], j1 = g->cellstart[rank + 1];
-            if (k + (j1 - j0) > t->ccap &&
-                (psim_reserve((void **)&t->cx, &t->ccap, k + (j1 - j0), sizeof *t->cx) ||
-                 psim_reserve((void **)&t->cy, &t->ccap2, k + (j1 - j0), sizeof *t->cy) ||
-                 psim_reserve((void **)&t->cj, &t->ccap3, k + (j1 - j0), sizeof *t->cj)))
-                return -1;
-            for (uint32_t j = j0; j < j1; j++, k++) {
+    for (int dy = -1; dy <= 1; dy++) {
+        const uint32_t *w = t->win + 2 * ((size_t)(ly + dy) * (size_t)t->W + (size_t)(lx - 1));
+        uint32_t n = (w[1] - w[0]) + (w[3] - w[2]) + (w[5] - w[4]);
+        if (reserve_candidates(t, k + n))
+            return -1;
+        for (int dx = 0; dx < 3; dx++)
+            for (uint32_t j = w[2 * dx]; j < w[2 * dx + 1]; j++, k++) {
                 t->cx[k] = s->x[j];
                 t->cy[k] = s->y[j];
                 t->cj[k] = j;
             }
-        }
     }
     return (long)k;
 }
@@ -98,10 +128,15 @@ static int list_one(const psim_sim *e, ftile *t, uint32_t i, long nc, double rea
     return 0;
 }
 
-static int list_tile(const psim_sim *e, ftile *t, uint32_t c0, uint32_t c1, double reach2)
+static int list_tile(const psim_sim *e, ftile *t, uint32_t tile, double reach2)
 {
     const psim_grid *g = &e->grid;
+    uint32_t c0 = g->tile_cell0[tile], c1 = g->tile_cell0[tile + 1];
     t->len = 0;
+    if (t->n == 0)
+        return 0;
+    if (plan_window(e, t, tile))
+        return -1;
     for (uint32_t c = c0; c < c1; c++) {
         uint32_t i0 = g->cellstart[c], i1 = g->cellstart[c + 1];
         if (i0 == i1)
@@ -136,7 +171,7 @@ int force_build_lists(psim_sim *e, fmodel *m)
 #pragma omp task firstprivate(ft, t, reach2) shared(oom, ts, e) default(none)
         {
             double b0 = psim_now();
-            if (list_tile(e, ft, e->grid.tile_cell0[t], e->grid.tile_cell0[t + 1], reach2)) {
+            if (list_tile(e, ft, t, reach2)) {
 #pragma omp atomic write
                 oom = 1;
             }
