@@ -28,6 +28,8 @@ static double uniform(uint64_t *s, double lo, double hi)
 
 double psim_scene_density(const psim_scene *sc)
 {
+    if (sc->n == 0)   /* also for a box of side 0 */
+        return 0.0;
     return (double)sc->n * M_PI * sc->r * sc->r / (sc->L * sc->L);
 }
 

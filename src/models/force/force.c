@@ -26,7 +26,9 @@ static void set_law(flaw *k, const psim_sim *e, const psim_scene *sc)
     int course = sc->format == PSIM_SCENE_CS267;
     double cutoff = psim_engine_option(e, "cutoff", course ? CS267_CUTOFF : 2 * sc->r);
     double scale = cutoff / CS267_CUTOFF;
-    double mass = course ? CS267_MASS : CS267_MASS / (scale * scale * scale * CS267_DT * CS267_DT);
+    /* the acceleration goes as 1 / (length mass): lengths scaled by
+     * `scale` and time by 1 / dt leave it the course's for this mass */
+    double mass = course ? CS267_MASS : CS267_MASS / (scale * scale * CS267_DT * CS267_DT);
     k->size = sc->L;
     k->cutoff = cutoff;
     k->mass = psim_engine_option(e, "mass", mass);
