@@ -14,6 +14,8 @@
 #             density 0.3, velocities uniform in [-0.05, 0.05], 20 steps
 #
 # psim is timed with time_s from --stats (simulation time) at 1 and 2 threads;
+# then the acceptance modes (env PSIM_CCD_ACCEPT=seq|par) on gen_1k and
+# slow_1e5 at 1 and 2 threads: time_s and the accept phase's seconds;
 # ccd_baseline by wall time, on gen_1k (K runs) and gen_10k (1 run) only:
 # it is O(N^2) per step.  Before timing, psim's and the baseline's outputs on
 # gen_1k (and gen_10k) are compared with cmp.
@@ -25,7 +27,7 @@ while [ $# -gt 0 ]; do
     case "$1" in
         --runs) runs="$2"; shift 2 ;;
         --runs=*) runs="${1#--runs=}"; shift ;;
-        -h|--help) sed -n '2,20p' "$0"; exit 0 ;;
+        -h|--help) sed -n '2,22p' "$0"; exit 0 ;;
         -*) echo "unknown option: $1" >&2; exit 2 ;;
         *) build="$1"; shift ;;
     esac
@@ -70,13 +72,23 @@ EOF
 # --- helpers ------------------------------------------------------------------
 median() { python3 -c 'import statistics,sys; print("%.6f" % statistics.median(float(a) for a in sys.argv[1:]))' "$@"; }
 
-psim_time() {  # scene threads -> median time_s over $runs runs
-    local scene=$1 threads=$2 ts=() i
+psim_stat() {  # scene threads key [accept mode] -> median of a --stats value over $runs runs
+    local scene=$1 threads=$2 key=$3 mode=${4:-} ts=() i
     for ((i = 0; i < runs; i++)); do
-        "$psim" -q --threads "$threads" --stats "$tmp/stats.json" "$scene" > /dev/null
-        ts+=("$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["time_s"])' "$tmp/stats.json")")
+        if [ -n "$mode" ]; then
+            PSIM_CCD_ACCEPT=$mode "$psim" -q --threads "$threads" --stats "$tmp/stats.json" "$scene" > /dev/null
+        else
+            "$psim" -q --threads "$threads" --stats "$tmp/stats.json" "$scene" > /dev/null
+        fi
+        ts+=("$(python3 -c 'import json,sys; d=json.load(open(sys.argv[1]))
+for k in sys.argv[2].split("."): d=d[k]
+print(d)' "$tmp/stats.json" "$key")")
     done
     median "${ts[@]}"
+}
+
+psim_time() {  # scene threads -> median time_s over $runs runs
+    psim_stat "$1" "$2" time_s
 }
 
 base_time() {  # scene nruns -> median wall time
@@ -142,4 +154,19 @@ mx, my = sum(xs) / len(xs), sum(ys) / len(ys)
 slope = sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / sum((x - mx) ** 2 for x in xs)
 print("slope: %.3f  (log-log least squares of psim 1-thread time per step vs N, slow scenes 1e4..1e6)" % slope)
 EOF
+
+# --- acceptance: the sequential greedy pass against parallel rounds -----------
+echo
+echo "acceptance (PSIM_CCD_ACCEPT=seq|par; median of $runs; accept: the accept phase of --stats)"
+echo "| scene | threads | seq time_s | seq accept s | par time_s | par accept s |"
+echo "|---|---:|---:|---:|---:|---:|"
+for s in gen_1k slow_1e5; do
+    for t in 1 2; do
+        row="| $s | $t"
+        for mode in seq par; do
+            row="$row | $(psim_stat "$tmp/$s.in" "$t" time_s "$mode") | $(psim_stat "$tmp/$s.in" "$t" phases_s.accept "$mode")"
+        done
+        echo "$row |"
+    done
+done
 echo "load average at end: $(cut -d" " -f1-3 /proc/loadavg)"

@@ -59,8 +59,7 @@ static void destroy(void *p)
     if (!m)
         return;
     psim_free(m->sx0), psim_free(m->sx1), psim_free(m->sy0), psim_free(m->sy1);
-    psim_free(m->px), psim_free(m->py), psim_free(m->pvx), psim_free(m->pvy);
-    psim_free(m->pid), psim_free(m->wmax);
+    psim_free(m->wmax);
     psim_free(m->ord), psim_free(m->key), psim_free(m->key2), psim_free(m->ord2);
     ccd_bands_free(&m->bands);
     for (int t = 0; m->lists && t < m->nlists; t++)
@@ -90,8 +89,6 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
                    : !strcmp(mode, "par") ? CCD_ACCEPT_PAR : CCD_ACCEPT_AUTO;
     size_t n = (size_t)e->n + 1, d = n * sizeof(double), u = n * sizeof(uint32_t);
     m->sx0 = psim_alloc(d), m->sx1 = psim_alloc(d), m->sy0 = psim_alloc(d), m->sy1 = psim_alloc(d);
-    m->px = psim_alloc(d), m->py = psim_alloc(d), m->pvx = psim_alloc(d), m->pvy = psim_alloc(d);
-    m->pid = psim_alloc(n * sizeof *m->pid);
     m->ord = psim_alloc(u), m->key = psim_alloc(u), m->key2 = psim_alloc(u), m->ord2 = psim_alloc(u);
     m->busy = psim_calloc(n);
     m->best = psim_alloc(n * sizeof *m->best);
@@ -100,9 +97,9 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
     m->nlists = e->threads;
     m->lists = calloc((size_t)m->nlists, sizeof *m->lists);
     int regridded;
-    if (!m->sx0 || !m->sx1 || !m->sy0 || !m->sy1 || !m->px || !m->py || !m->pvx ||
-        !m->pvy || !m->pid || !m->ord || !m->key || !m->key2 || !m->ord2 || !m->busy ||
-        !m->best || !m->pcoll || !m->wcoll || !m->lists || fit_grid(e, m, &regridded))
+    if (!m->sx0 || !m->sx1 || !m->sy0 || !m->sy1 || !m->ord || !m->key || !m->key2 ||
+        !m->ord2 || !m->busy || !m->best || !m->pcoll || !m->wcoll || !m->lists ||
+        fit_grid(e, m, &regridded))
         goto oom;
     return m;
 oom:

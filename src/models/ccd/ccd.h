@@ -85,12 +85,9 @@ typedef struct cmodel {
     double vmax;            /* largest speed component bound this step */
     /* per store place, this step: each cell's disks sorted by the left
      * edge of their swept box (ord: store places; key, key2, ord2: sort
-     * keys and scratch), then gathered in that order ("rows"): the box
-     * s*, and the disk's state p* and id */
+     * keys and scratch), and their boxes s* in that order ("rows") */
     uint32_t *ord, *key, *key2, *ord2;
     double *sx0, *sx1, *sy0, *sy1;
-    double *px, *py, *pvx, *pvy;
-    int32_t *pid;
     double *wmax;           /* per cell: widest box (sized on regrid) */
     size_t wmax_cap;
     cbands bands;           /* big cells' bands */

@@ -65,13 +65,14 @@ int ccd_list_push(clist *l, const ccand *c)
 static inline float round_down(double v)
 {
     float f = (float)v;
-    if ((double)f > v) {
-        /* one float step down (inline: nextafterf is a library call) */
-        uint32_t u;
-        memcpy(&u, &f, sizeof u);
-        u = f > 0 ? u - 1 : (f < 0 ? u + 1 : 0x80000001u); /* 0: -FLT_TRUE_MIN */
-        memcpy(&f, &u, sizeof f);
-    }
+    /* when f is above v, one float step down, without a branch (it would
+     * mispredict half the time): the bits go down by one for a positive f,
+     * up by one for a negative f (-0 included: v < 0 rounds to -0, never
+     * to +0) */
+    uint32_t u, down = (double)f > v;
+    memcpy(&u, &f, sizeof u);
+    u += down * ((u >> 31) * 2u - 1u);
+    memcpy(&f, &u, sizeof f);
     return f;
 }
 
@@ -88,7 +89,7 @@ static inline uint32_t edge_key(double x, double vx, double g)
     float f = (float)left_edge(x, vx, g);
     uint32_t u;
     memcpy(&u, &f, sizeof u);
-    return (u & 0x80000000u) ? ~u : u | 0x80000000u;
+    return u ^ (-(u >> 31) | 0x80000000u); /* negative: all bits flipped */
 }
 
 /* Stable insertion sort of n (key, place) pairs by key: small cells. */
@@ -141,18 +142,26 @@ static void radix_sort(uint32_t *key, uint32_t *ord, uint32_t *key2, uint32_t *o
     }
 }
 
-/* Row k of the sorted arrays from store place i: its box and its disk. */
+/* The float left edge back from its key. */
+static inline double key_edge(uint32_t key)
+{
+    uint32_t u = key ^ (((key >> 31) - 1u) | 0x80000000u);
+    float f;
+    memcpy(&f, &u, sizeof f);
+    return (double)f;
+}
+
+/* Row k of the sorted boxes from store place i (the disks themselves
+ * stay in the store: copying them costs more than the indirection saves
+ * on small cells; the bands copy theirs). */
 static inline void gather_row(cmodel *m, const psim_store *s, uint32_t k, uint32_t i,
                               double g)
 {
-    double x = s->x[i], y = s->y[i], vx = s->vx[i], vy = s->vy[i];
-    double x1 = x + vx, y1 = y + vy;
-    m->sx0[k] = left_edge(x, vx, g);
+    double x = s->x[i], y = s->y[i], x1 = x + s->vx[i], y1 = y + s->vy[i];
+    m->sx0[k] = key_edge(m->key[k]); /* left_edge(x, vx, g), sorted with it */
     m->sx1[k] = (x < x1 ? x1 : x) + g;
     m->sy0[k] = (y < y1 ? y : y1) - g;
     m->sy1[k] = (y < y1 ? y1 : y) + g;
-    m->px[k] = x, m->py[k] = y, m->pvx[k] = vx, m->pvy[k] = vy;
-    m->pid[k] = s->id[i];
 }
 
 /* Cell c's rows, in left-edge order, and its widest box. */
@@ -271,12 +280,15 @@ static cplan plan_cell(const cmodel *m, const psim_grid *g, uint32_t c)
     }
 }
 
-/* Copy row k into entry at e of its band (first: its first band). */
-static inline void put_entry(cbands *B, const cmodel *m, size_t e, uint32_t k, double first)
+/* Copy row k (its box, and its disk from the store) into entry at e of
+ * its band (first: its first band). */
+static inline void put_entry(cbands *B, const cmodel *m, const psim_store *s, size_t e,
+                             uint32_t k, double first)
 {
+    uint32_t i = m->ord[k];
     B->x0[e] = m->sx0[k], B->x1[e] = m->sx1[k], B->y0[e] = m->sy0[k], B->y1[e] = m->sy1[k];
     B->first[e] = first;
-    B->x[e] = m->px[k], B->y[e] = m->py[k], B->vx[e] = m->pvx[k], B->vy[e] = m->pvy[k];
+    B->x[e] = s->x[i], B->y[e] = s->y[i], B->vx[e] = s->vx[i], B->vy[e] = s->vy[i];
     B->row[e] = k;
 }
 
@@ -293,13 +305,13 @@ static void put_sentinels(cbands *B, size_t e)
 
 /* Fill the bands of plan p: rows in left-edge order, so each band's
  * entries are in that order too (bands of each row from layout_cell). */
-static void fill_cell(cmodel *m, const psim_grid *g, const cplan *p)
+static void fill_cell(cmodel *m, const psim_store *s, const psim_grid *g, const cplan *p)
 {
     cbands *B = &m->bands;
     cband *bd = B->band + p->band0;
     for (uint32_t k = g->cellstart[p->cell]; k < g->cellstart[p->cell + 1]; k++)
         for (uint32_t j = m->key2[k]; j <= m->ord2[k]; j++)
-            put_entry(B, m, bd[j].e1++, k, (double)m->key2[k]);
+            put_entry(B, m, s, bd[j].e1++, k, (double)m->key2[k]);
     for (int j = 0; j < p->nb; j++)
         put_sentinels(B, bd[j].e1);
 }
@@ -351,7 +363,7 @@ static int build_bands(psim_sim *e, cmodel *m)
     if (total > UINT32_MAX || bands_reserve(B, total))
         return -1;
     for (size_t i = 0; i < B->nplan; i++)
-        fill_cell(m, g, &B->plan[i]);
+        fill_cell(m, &e->st, g, &B->plan[i]);
     return 0;
 }
 
@@ -359,6 +371,7 @@ static int build_bands(psim_sim *e, cmodel *m)
 
 typedef struct detect_ctx {
     cmodel *m;
+    const psim_store *s;
     const psim_grid *g;
     double L, r;
     psim_thread_stats *ts;
@@ -368,37 +381,38 @@ typedef struct detect_ctx {
 /* The exact rule on rows a, b (their boxes overlap), lower id first. */
 static inline void test_rows(detect_ctx *c, uint32_t a, uint32_t b, clist *out)
 {
-    cmodel *m = c->m;
-    if (m->pid[a] > m->pid[b]) {
-        uint32_t t = a;
-        a = b;
-        b = t;
+    const psim_store *s = c->s;
+    uint32_t i = c->m->ord[a], j = c->m->ord[b];
+    if (s->id[i] > s->id[j]) {
+        uint32_t t = i;
+        i = j;
+        j = t;
     }
     ccand k;
-    if (ccd_pair_time(m->px[a], m->py[a], m->pvx[a], m->pvy[a], m->px[b], m->py[b],
-                      m->pvx[b], m->pvy[b], c->r, &k.t)) {
-        k.p = m->pid[a];
-        k.q = m->pid[b];
-        k.sp = m->ord[a];
-        k.sq = m->ord[b];
+    if (ccd_pair_time(s->x[i], s->y[i], s->vx[i], s->vy[i], s->x[j], s->y[j], s->vx[j],
+                      s->vy[j], c->r, &k.t)) {
+        k.p = s->id[i];
+        k.q = s->id[j];
+        k.sp = i;
+        k.sq = j;
         if (ccd_list_push(out, &k))
-            m->oom = 1;
+            c->m->oom = 1;
     }
 }
 
-/* Wall candidates of rows [k0, k1). */
-static void detect_walls(detect_ctx *c, uint32_t k0, uint32_t k1, clist *out)
+/* Wall candidates of store places [i0, i1). */
+static void detect_walls(detect_ctx *c, uint32_t i0, uint32_t i1, clist *out)
 {
-    cmodel *m = c->m;
-    for (uint32_t k = k0; k < k1; k++) {
+    const psim_store *s = c->s;
+    for (uint32_t i = i0; i < i1; i++) {
         ccand w;
-        if (ccd_wall_time(m->px[k], m->py[k], m->pvx[k], m->pvy[k], 1.0, c->L, c->r, &w.t)) {
-            w.p = m->pid[k];
+        if (ccd_wall_time(s->x[i], s->y[i], s->vx[i], s->vy[i], 1.0, c->L, c->r, &w.t)) {
+            w.p = s->id[i];
             w.q = -1;
-            w.sp = m->ord[k];
+            w.sp = i;
             w.sq = UINT32_MAX;
             if (ccd_list_push(out, &w))
-                m->oom = 1;
+                c->m->oom = 1;
         }
     }
 }
@@ -662,7 +676,7 @@ void ccd_detect(psim_sim *e, cmodel *m)
         m->lists[t].n = 0;
     size_t unit = e->st.n / (8 * (size_t)e->threads);
     unit = unit < 256 ? 256 : (unit > 16384 ? 16384 : unit);
-    detect_ctx ctx = {m, &e->grid, m->L, m->r, e->tstats, 0};
+    detect_ctx ctx = {m, &e->st, &e->grid, m->L, m->r, e->tstats, 0};
     detect_ctx *c = &ctx;
     uint64_t tasks = 0;
 #pragma omp parallel num_threads(e->threads) firstprivate(c) shared(tasks, unit) default(none)
