@@ -5,26 +5,29 @@
  * a margin for round-off), so a pair that can be a candidate lies in the
  * same or adjacent cells.  Pairs are pruned by their swept boxes (the box a
  * disk sweeps during the step, grown by r and the margin): each cell's
- * disks are sorted by the left edge of their box and gathered in that
- * order ("rows": box and disk state, contiguous), and a sweep along x
- * tests only pairs whose boxes overlap.
+ * disks are sorted by the left edge of their box ("rows": the boxes in
+ * that order), and a sweep along x looks only at pairs whose boxes overlap
+ * in x.
  *
  * Small cells (slow disks: O(N) work) sweep within the cell and into its
- * four forward neighbours.  Big cells (fast disks: on the generator's
- * scenes every disk crosses 1/8..1/4 of the box per step and the grid is
- * one cell) are cut into bands along y about 1.3 mean box heights high;
- * each row is copied into every band its box meets, and a pair is looked at
- * only in the band of the larger of its boxes' bottom edges, which holds
- * both boxes when they overlap.  Inside a band, the sweep runs over blocks
- * of 4 entries with vector arithmetic: the box filter and the rules'
- * discriminant for all 4 lanes, with no branch until a lane passes both.
+ * four forward neighbours, testing the pairs whose boxes overlap.  Big
+ * cells (fast disks: on the generator's scenes every disk crosses
+ * 1/8..1/4 of the box per step and the grid is one cell) are cut into
+ * bands along y about 1.3 mean box heights high; each row is copied, with
+ * its disk, into every band its box meets, and a pair is looked at only in
+ * the band of the larger of its boxes' bottom edges, which holds both boxes
+ * when they overlap.  Inside a band the sweep runs over blocks of 4
+ * entries with vector arithmetic: the rules' discriminant for every lane,
+ * and the box filter and the exact rule only for the rare lanes where it
+ * is positive.
  *
  * The pruning is conservative: the box left edges are rounded down to
  * float (32-bit sort keys; the boxes only grow), and every pair whose boxes
- * overlap is decided by the exact rule (rules.h, the same call as before on
- * the same doubles); the kernel only skips pairs whose discriminant, computed
- * with the same IEEE operations in the same order, is not positive, which
- * the rule rejects too. */
+ * overlap is decided by the exact rule (rules.h, called as before on the
+ * store's doubles); the kernel skips only pairs whose discriminant,
+ * computed with the same IEEE operations in the same order, is not
+ * positive, which the rule rejects too.  pair_tests counts discriminants
+ * computed. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -493,18 +496,18 @@ static uint64_t sweep_neighbours(detect_ctx *c, uint32_t cell, uint32_t k0, uint
 }
 
 /* Lanes of 2 doubles (GCC vector extensions: one SSE2 operation each on
- * x86-64), loaded from 8-byte aligned doubles, which vector types may
- * alias.  Macros rather than functions: vector return values trip
- * -Wpsabi. */
+ * x86-64; 4-wide vectors were lowered to scalar compares without AVX and
+ * ran slower), loaded from 8-byte aligned doubles, which vector types may
+ * alias. */
 typedef double v2d __attribute__((vector_size(16)));
 typedef double v2du __attribute__((vector_size(16), aligned(8)));
 typedef long long v2l __attribute__((vector_size(16)));
 #define LOAD2(p) ((v2d)(*(const v2du *)(p)))
 #define SPLAT(s) ((v2d){(s), (s)})
 
-/* Row a's pair filter against 2 lanes at b: "in" when the boxes overlap
- * and the pair's bottom-edge band is this one (own: a's first band is;
- * k: this band), "hit" when in and the rules' discriminant D > 0. */
+/* Entry a, splat across lanes, against 2 lanes at b: "in" when the boxes
+ * overlap and the pair's bottom-edge band is this one (own: a's first band
+ * is; k: this band), and D > 0 for the rules' discriminant D. */
 typedef struct lane_row {
     v2d x1, y0, y1, x, y, vx, vy, k, r4;
     v2l own;
