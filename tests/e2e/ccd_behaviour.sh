@@ -107,6 +107,10 @@ printf '400\n400\n1\n60\nperf\n' >"$tmp/fastdense.in"
 run fastdense
 printf '300\n5000\n2\n100\nperf\n' >"$tmp/fast.in"
 run fast
+# more threads than any fixed per-thread table could hold (the merge of the
+# per-thread candidate lists once had 64 places): same bytes
+run_ok "$PSIM" -q --threads 70 --out "$tmp/fast.70.out" "$tmp/fast.in"
+same_file "$tmp/fast.out" "$tmp/fast.70.out" "fast: 1 vs 70 threads"
 "$PSIM" gen --n 1500 --density 0.5 --r 1 --steps 30 --vmin -0.4 --vmax 0.4 --place nonoverlap --seed 7 2>/dev/null |
     awk 'NR == 4 { print; print "perf"; next } { print }' >"$tmp/slow.in"
 run slow

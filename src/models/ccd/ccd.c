@@ -65,6 +65,8 @@ static void destroy(void *p)
     for (int t = 0; m->lists && t < m->nlists; t++)
         psim_free(m->lists[t].c);
     free(m->lists);
+    free(m->off);
+    free(m->head);
     psim_free(m->all.c);
     psim_free(m->acc.c);
     psim_free(m->busy);
@@ -96,9 +98,11 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
     m->wcoll = calloc(n, sizeof *m->wcoll);
     m->nlists = e->threads;
     m->lists = calloc((size_t)m->nlists, sizeof *m->lists);
+    m->off = calloc((size_t)m->nlists, sizeof *m->off);
+    m->head = calloc((size_t)m->nlists, sizeof *m->head);
     int regridded;
     if (!m->sx0 || !m->sx1 || !m->sy0 || !m->sy1 || !m->ord || !m->key || !m->key2 ||
-        !m->ord2 || !m->busy || !m->best || !m->pcoll || !m->wcoll || !m->lists ||
+        !m->ord2 || !m->busy || !m->best || !m->pcoll || !m->wcoll || !m->lists || !m->off || !m->head ||
         fit_grid(e, m, &regridded))
         goto oom;
     return m;

@@ -93,6 +93,7 @@ typedef struct cmodel {
     cbands bands;           /* big cells' bands */
     clist *lists;           /* one per thread */
     int nlists;
+    size_t *off, *head;     /* per list: place in `all`, merge position */
     clist all;              /* every candidate, in order */
     clist acc;              /* the accepted ones, in order */
     uint8_t *busy;          /* per store place: in an accepted collision */

@@ -91,7 +91,7 @@ static void sort_cands(ccand *c, ccand *tmp, size_t n)
 
 int ccd_order(psim_sim *e, cmodel *m)
 {
-    size_t total = 0, off[64];
+    size_t total = 0, *off = m->off, *head = m->head;
     for (int t = 0; t < m->nlists; t++) {
         off[t] = total;
         total += m->lists[t].n;
@@ -107,8 +107,8 @@ int ccd_order(psim_sim *e, cmodel *m)
         psim_tstat_add(e->tstats, CPHASE_ORDER, psim_now() - t0, 1, m->lists[t].n);
     }
     /* k-way merge of the sorted lists (k = threads) */
-    size_t head[64] = {0};
     int k = m->nlists;
+    memset(head, 0, (size_t)k * sizeof *head);
     for (size_t o = 0; o < total; o++) {
         int best = -1;
         for (int t = 0; t < k; t++)
