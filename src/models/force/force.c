@@ -44,12 +44,14 @@ static void destroy(void *p)
     if (!m)
         return;
     for (uint32_t t = 0; m->tiles && t < m->cap_tiles; t++) {
-        psim_free(m->tiles[t].nbr);
-        psim_free(m->tiles[t].cx), psim_free(m->tiles[t].cy), psim_free(m->tiles[t].cj);
-        psim_free(m->tiles[t].win);
+        ftile *t_ = &m->tiles[t];
+        for (int b = 0; b <= FORCE_BUCKETS; b++)
+            psim_free(t_->pair[b]);
+        psim_free(t_->cx), psim_free(t_->cy), psim_free(t_->cj), psim_free(t_->win);
+        psim_free(t_->hit), psim_free(t_->rec), psim_free(t_->out), psim_free(t_->slow);
+        psim_free(t_->ax), psim_free(t_->ay), psim_free(t_->cnt);
     }
     free(m->tiles);
-    psim_free(m->end_all);
     free(m);
 }
 
@@ -68,9 +70,7 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
             goto oom;
         return m;
     }
-    m->end_all = psim_alloc(((size_t)e->n + 1) * sizeof *m->end_all);
-    if (!m->end_all ||
-        psim_engine_grid_occ(e, m->law.cutoff + m->skin, NULL, FORCE_CELL_PARTICLES))
+    if (psim_engine_grid_occ(e, m->law.cutoff + m->skin, NULL, FORCE_CELL_PARTICLES))
         goto oom;
     return m;
 oom:
@@ -85,8 +85,7 @@ oom:
  * then unless 2 drift > skin. */
 static int lists_stale(const fmodel *m)
 {
-    double slack = (double)m->since_build * 8 * DBL_EPSILON * m->law.size;
-    return !m->built || 2 * (m->drift + slack) > m->skin;
+    return !m->built || 2 * force_drift_bound(m) > m->skin;
 }
 
 static int interact(psim_sim *e, void *p, psim_error *err)
@@ -97,8 +96,11 @@ static int interact(psim_sim *e, void *p, psim_error *err)
         psim_error_set(err, "out of memory for the neighbour lists of step %ld", e->step + 1);
         return -1;
     }
-    PSIM_TIMED(e, FPHASE_FORCE,
-               rc = m->naive ? force_step_naive(e, m) : force_step_lists(e, m));
+    rc = m->naive ? force_step_naive(e, m) : force_step_lists(e, m);
+    if (rc == -2) {
+        psim_error_set(err, "out of memory for the forces of step %ld", e->step + 1);
+        return -1;
+    }
     if (rc && !m->lost_step) {
         m->lost_step = e->step + 1;
         psim_error_set(err, "step %ld: a particle left the box for good (dt %g is too large "
@@ -198,7 +200,7 @@ static int generate(psim_scene *sc, long n, uint64_t seed, psim_error *err)
 const psim_model psim_model_force = {
     .name = "force",
     .summary = "Berkeley CS267 HW2: short-range repulsion within a cutoff, O(n)",
-    .phases = {"nlist", "force", NULL},
+    .phases = {"nlist", "force", "integrate", NULL},
     .counters = {"pair_tests", "interactions", "rebuilds", "list_entries", "tasks", NULL},
     .output = {.period = CS267_SAVEFREQ},
     .output_digits = -1,

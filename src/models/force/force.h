@@ -16,13 +16,14 @@
  * --option naive=1 runs the course's O(n^2) loops instead (for tests). */
 #ifndef PSIM_FORCE_H
 #define PSIM_FORCE_H
+#include <float.h>
 #include <stddef.h>
 #include <stdint.h>
 
 #include "../../engine/engine.h"
 #include "law.h"
 
-enum { FPHASE_NLIST = PSIM_PHASE_MODEL, FPHASE_FORCE };
+enum { FPHASE_NLIST = PSIM_PHASE_MODEL, FPHASE_FORCE, FPHASE_INTEGRATE };
 enum { FC_PAIR_TESTS, FC_INTERACTIONS, FC_REBUILDS, FC_LIST_ENTRIES, FC_TASKS };
 
 /* The course's constants (common.h). */
@@ -33,26 +34,58 @@ enum { FC_PAIR_TESTS, FC_INTERACTIONS, FC_REBUILDS, FC_LIST_ENTRIES, FC_TASKS };
 #define CS267_STEPS 1000
 #define CS267_SAVEFREQ 10
 
-/* One tile's neighbour lists: the lists of its particles (store places
- * first .. first + n - 1) one after another; end[k] ends particle
- * first + k's list. */
+/* Pair lists are split by the pairs' distance at the build into
+ * FORCE_BUCKETS shells of width skin / FORCE_BUCKETS beyond the cutoff
+ * (the first shell holds the pairs within the cutoff too): a shell whose
+ * pairs were farther apart than cutoff + 2 drift cannot hold a pair within
+ * the cutoff yet, so a step tests only the shells that the particles may
+ * have crossed since the build (half the list on average, not all of it). */
+#define FORCE_BUCKETS 4
+
+/* A pair of store places: each unordered pair once (half lists). */
+typedef struct fpair {
+    uint32_t i, j;
+} fpair;
+
+/* The force of one interacting pair on one of its particles (the owner,
+ * a store place); partner: the other's id, the order of the sums. */
+typedef struct frec {
+    uint32_t owner;
+    int32_t partner;
+    double fx, fy;
+} frec;
+
+/* A tile: its particles are store places first .. first + n - 1, its
+ * pairs those found from its cells (the other particle may belong to a
+ * neighbouring tile). */
 typedef struct ftile {
     uint32_t first, n;
-    uint32_t *end;
-    uint32_t *nbr;          /* store places, each list in id order */
-    size_t len, cap;
+    fpair *pair[FORCE_BUCKETS + 1];   /* the last: scratch for pairs beyond reach */
+    size_t len[FORCE_BUCKETS + 1], cap[FORCE_BUCKETS + 1];
     double *cx, *cy;        /* candidates of the cell being listed */
     uint32_t *cj;
     size_t ccap;
     uint32_t *win;          /* the tile's cells and a border: first, end */
     size_t wcap;
     int wx0, wy0, W;        /* the window's first cell and side */
+    uint32_t *hit;          /* this step: pairs within the cutoff */
+    size_t hcap;
+    frec *rec;              /* forces on this tile's particles */
+    size_t nrec, rcap;
+    frec *out;              /* forces on other tiles' particles */
+    size_t nout, ocap;
+    frec *slow;             /* forces on particles with 3 or more */
+    size_t scap;
+    double *ax, *ay;        /* n: accelerations, zero between steps */
+    uint32_t *cnt;          /* n: forces on each particle this step */
+    size_t acap;
     /* this step: */
     double v2max;           /* largest squared speed after the move */
     uint64_t tests, hits;
     double dmin, dsum;      /* --force-stats: nearest distance / cutoff, sum */
     uint64_t dn;
     int lost;               /* a particle left the box for good */
+    int oom;
 } ftile;
 
 typedef struct fmodel {
@@ -64,16 +97,24 @@ typedef struct fmodel {
     int built;
     ftile *tiles;
     uint32_t ntiles, cap_tiles;
-    uint32_t *end_all;      /* n: storage of the tiles' end[] */
     /* --force-stats (the older edition's), over the steps so far */
     double absmin, absavg;
     long nabsavg;
     long lost_step;         /* first step a particle left the box (0: none) */
 } fmodel;
 
+/* A bound on how far any particle has moved since the lists were built:
+ * the sum over the steps of the largest speed times dt, plus a few ulps
+ * of the box a step (the rounding of the positions), plus one step's. */
+static inline double force_drift_bound(const fmodel *m)
+{
+    return m->drift + (double)(m->since_build + 1) * 8 * DBL_EPSILON * m->law.size;
+}
+
 /* nlist.c */
 int force_build_lists(psim_sim *e, fmodel *m);
-/* step.c: forces and move of every particle; -1 if one left the box */
+/* step.c: forces and move of every particle; -1 if one left the box, -2
+ * when out of memory */
 int force_step_lists(psim_sim *e, fmodel *m);
 int force_step_naive(psim_sim *e, fmodel *m);
 int force_plan_naive(fmodel *m, long n);

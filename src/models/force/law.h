@@ -23,6 +23,15 @@ typedef struct flaw {
     double min_r2;    /* min_r * min_r, min_r = cutoff / 100 */
 } flaw;
 
+/* The force coefficient of a pair at squared distance r2 within the
+ * cutoff: the force on p is (coef dx, coef dy), dx = q.x - p.x. */
+static inline double flaw_coef(const flaw *k, double r2)
+{
+    r2 = r2 >= k->min_r2 ? r2 : k->min_r2;   /* fmax(r2, min_r2), NaN too, inline */
+    double r = sqrt(r2);
+    return (1 - k->cutoff / r) / r2 / k->mass;
+}
+
 /* Force of q on p, added to (*ax, *ay); returns whether they interact. */
 static inline int flaw_pair(const flaw *k, double px, double py, double qx, double qy,
                             double *ax, double *ay)
@@ -31,9 +40,7 @@ static inline int flaw_pair(const flaw *k, double px, double py, double qx, doub
     double r2 = dx * dx + dy * dy;
     if (r2 > k->cutoff2)
         return 0;
-    r2 = r2 >= k->min_r2 ? r2 : k->min_r2;   /* fmax(r2, min_r2), NaN too, inline */
-    double r = sqrt(r2);
-    double coef = (1 - k->cutoff / r) / r2 / k->mass;
+    double coef = flaw_coef(k, r2);
     *ax += coef * dx;
     *ay += coef * dy;
     return 1;
@@ -55,15 +62,20 @@ static inline int flaw_bounce(double size, double *x, double *v)
     return 0;
 }
 
+/* The course's move of one coordinate before the walls: v += a dt, then
+ * x += v dt. */
+static inline double flaw_kick(const flaw *k, double v, double a) { return v + a * k->dt; }
+static inline double flaw_drift(const flaw *k, double x, double v) { return x + v * k->dt; }
+
 /* The course's move of one particle given its acceleration; new position
  * to (*nx, *ny).  Returns -1 when it left the box for good. */
 static inline int flaw_move(const flaw *k, double x, double y, double *vx, double *vy,
                             double ax, double ay, double *nx, double *ny)
 {
-    *vx += ax * k->dt;
-    *vy += ay * k->dt;
-    x += *vx * k->dt;
-    y += *vy * k->dt;
+    *vx = flaw_kick(k, *vx, ax);
+    *vy = flaw_kick(k, *vy, ay);
+    x = flaw_drift(k, x, *vx);
+    y = flaw_drift(k, y, *vy);
     int rc = flaw_bounce(k->size, &x, vx) | flaw_bounce(k->size, &y, vy);
     *nx = x;
     *ny = y;

@@ -1,9 +1,10 @@
-/* Verlet neighbour lists of the force model, built from the engine's sort:
+/* Verlet pair lists of the force model, built from the engine's sort:
  * cells are wider than the list radius (cutoff + skin), so a particle's
- * neighbours are in its own and the eight adjacent cells.  Each list is in
- * id order: summing a particle's forces in that order is the course's
- * naive loop over j = 0 .. n-1 with the pairs beyond the cutoff left out,
- * so the fast path gives the naive code's bits. */
+ * neighbours are in its own and the eight adjacent cells.  Each unordered
+ * pair is listed once, by the cell that sees the other's cell in its
+ * forward half of the 3 x 3 stencil (a half list: half the tests of a
+ * full one), in the shell of its distance (force.h).  The order of the
+ * pairs does not matter: step.c sums each particle's forces in id order. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -29,21 +30,23 @@ static int plan_tiles(psim_sim *e, fmodel *m)
         ftile *ft = &m->tiles[t];
         ft->first = g->cellstart[g->tile_cell0[t]];
         ft->n = g->cellstart[g->tile_cell0[t + 1]] - ft->first;
-        ft->end = m->end_all + ft->first;
+        if (ft->n > ft->acap) {
+            size_t cap = ft->n + ft->n / 2 + 16;
+            psim_free(ft->ax), psim_free(ft->ay), psim_free(ft->cnt);
+            ft->ax = psim_alloc(cap * sizeof *ft->ax);
+            ft->ay = psim_alloc(cap * sizeof *ft->ay);
+            ft->cnt = psim_alloc(cap * sizeof *ft->cnt);
+            ft->acap = ft->ax && ft->ay && ft->cnt ? cap : 0;
+            if (!ft->acap)
+                return -1;
+        }
+        if (ft->n) {
+            memset(ft->ax, 0, ft->n * sizeof *ft->ax);
+            memset(ft->ay, 0, ft->n * sizeof *ft->ay);
+            memset(ft->cnt, 0, ft->n * sizeof *ft->cnt);
+        }
     }
     return 0;
-}
-
-/* Insert the last entry of list[0 .. len-1] in id order. */
-static void insert_by_id(uint32_t *list, size_t len, const int32_t *id)
-{
-    uint32_t v = list[len - 1];
-    size_t k = len - 1;
-    while (k > 0 && id[list[k - 1]] > id[v]) {
-        list[k] = list[k - 1];
-        k--;
-    }
-    list[k] = v;
 }
 
 /* The tile's cells and a border of one cell, row-major: where each
@@ -84,55 +87,72 @@ static int reserve_candidates(ftile *t, size_t need)
            psim_reserve((void **)&t->cx, &t->ccap, need, sizeof *t->cx);
 }
 
-/* Gather the particles of the 3 x 3 cells around cell c into the tile's
- * candidate buffer; returns their number, or -1 (no memory). */
+/* The forward half of the 3 x 3 stencil: the cell itself first, then
+ * the cells to the east, north-west, north and north-east. */
+static const int fwd_dx[5] = {0, 1, -1, 0, 1}, fwd_dy[5] = {0, 0, 1, 1, 1};
+
+/* Gather the particles of cell c and its forward cells into the tile's
+ * candidate buffer (cell c's first); returns their number, or -1. */
 static long gather(const psim_sim *e, ftile *t, uint32_t c)
 {
     const psim_store *s = &e->st;
     const psim_grid *g = &e->grid;
     int lx = g->cell_x[c] - t->wx0, ly = g->cell_y[c] - t->wy0;
-    size_t k = 0;
-    for (int dy = -1; dy <= 1; dy++) {
-        const uint32_t *w = t->win + 2 * ((size_t)(ly + dy) * (size_t)t->W + (size_t)(lx - 1));
-        uint32_t n = (w[1] - w[0]) + (w[3] - w[2]) + (w[5] - w[4]);
-        if (reserve_candidates(t, k + n))
-            return -1;
-        for (int dx = 0; dx < 3; dx++)
-            for (uint32_t j = w[2 * dx]; j < w[2 * dx + 1]; j++, k++) {
-                t->cx[k] = s->x[j];
-                t->cy[k] = s->y[j];
-                t->cj[k] = j;
-            }
+    const uint32_t *w[5];
+    size_t k = 0, need = 0;
+    for (int f = 0; f < 5; f++) {
+        w[f] = t->win + 2 * ((size_t)(ly + fwd_dy[f]) * (size_t)t->W + (size_t)(lx + fwd_dx[f]));
+        need += w[f][1] - w[f][0];
     }
+    if (reserve_candidates(t, need))
+        return -1;
+    for (int f = 0; f < 5; f++)
+        for (uint32_t j = w[f][0]; j < w[f][1]; j++, k++) {
+            t->cx[k] = s->x[j];
+            t->cy[k] = s->y[j];
+            t->cj[k] = j;
+        }
     return (long)k;
 }
 
-/* Append particle i's neighbours among the nc candidates, in id order.
- * The test is branch-free: every candidate is written, and the length
- * grows by whether it is within reach. */
-static int list_one(const psim_sim *e, ftile *t, uint32_t i, long nc, double reach2)
+/* Append the pairs of particle i with candidates a .. nc - 1 within
+ * reach, each to the shell of its distance.  Branch-free: every candidate
+ * is written to its shell's list (to the tile's scratch list when beyond
+ * reach), whose length grows by one. */
+static int list_one(const psim_sim *e, ftile *t, uint32_t i, long a, long nc,
+                    const double *thr)
 {
-    if (t->len + (size_t)nc > t->cap &&
-        psim_reserve((void **)&t->nbr, &t->cap, t->len + (size_t)nc, sizeof *t->nbr))
-        return -1;
-    double px = e->st.x[i], py = e->st.y[i];
-    size_t begin = t->len, len = begin;
-    for (long k = 0; k < nc; k++) {
-        double dx = t->cx[k] - px, dy = t->cy[k] - py;
-        t->nbr[len] = t->cj[k];
-        len += (dx * dx + dy * dy <= reach2) & (t->cj[k] != i);
+    for (int b = 0; b <= FORCE_BUCKETS; b++)
+        if (t->len[b] + (size_t)nc > t->cap[b] &&
+            psim_reserve((void **)&t->pair[b], &t->cap[b], t->len[b] + (size_t)nc,
+                         sizeof *t->pair[b]))
+            return -1;
+    fpair *list[FORCE_BUCKETS + 1];
+    size_t len[FORCE_BUCKETS + 1];
+    for (int b = 0; b <= FORCE_BUCKETS; b++) {
+        list[b] = t->pair[b];
+        len[b] = t->len[b];
     }
-    for (size_t a = begin + 1; a < len; a++)
-        insert_by_id(t->nbr + begin, a - begin + 1, e->st.id);
-    t->len = len;
+    len[FORCE_BUCKETS] = 0;
+    double px = e->st.x[i], py = e->st.y[i];
+    for (long k = a; k < nc; k++) {
+        double dx = t->cx[k] - px, dy = t->cy[k] - py, r2 = dx * dx + dy * dy;
+        int b = 0;
+        for (int m = 0; m < FORCE_BUCKETS; m++)
+            b += r2 > thr[m];
+        list[b][len[b]++] = (fpair){i, t->cj[k]};
+    }
+    for (int b = 0; b < FORCE_BUCKETS; b++)
+        t->len[b] = len[b];
     return 0;
 }
 
-static int list_tile(const psim_sim *e, ftile *t, uint32_t tile, double reach2)
+static int list_tile(const psim_sim *e, ftile *t, uint32_t tile, const double *thr)
 {
     const psim_grid *g = &e->grid;
     uint32_t c0 = g->tile_cell0[tile], c1 = g->tile_cell0[tile + 1];
-    t->len = 0;
+    for (int b = 0; b < FORCE_BUCKETS; b++)
+        t->len[b] = 0;
     if (t->n == 0)
         return 0;
     if (plan_window(e, t, tile))
@@ -144,11 +164,9 @@ static int list_tile(const psim_sim *e, ftile *t, uint32_t tile, double reach2)
         long nc = gather(e, t, c);
         if (nc < 0)
             return -1;
-        for (uint32_t i = i0; i < i1; i++) {
-            if (list_one(e, t, i, nc, reach2))
+        for (uint32_t i = i0; i < i1; i++)
+            if (list_one(e, t, i, (long)(i - i0) + 1, nc, thr))
                 return -1;
-            t->end[i - t->first] = (uint32_t)t->len;
-        }
     }
     return 0;
 }
@@ -161,17 +179,22 @@ int force_build_lists(psim_sim *e, fmodel *m)
     double t0 = psim_now();
     if (plan_tiles(e, m))
         return -1;
-    double reach = m->law.cutoff + m->skin, reach2 = reach * reach;
+    /* shell b holds the pairs with r2 <= thr[b]: thr[b] = (cutoff + (b + 1) skin / B)^2 */
+    double thr[FORCE_BUCKETS];
+    for (int b = 0; b < FORCE_BUCKETS; b++) {
+        double d = m->law.cutoff + (b + 1) * (m->skin / FORCE_BUCKETS);
+        thr[b] = d * d;
+    }
     int oom = 0;
     psim_thread_stats *ts = e->tstats;
 #pragma omp parallel num_threads(e->threads)
 #pragma omp single
     for (uint32_t t = 0; t < m->ntiles; t++) {
         ftile *ft = &m->tiles[t];
-#pragma omp task firstprivate(ft, t, reach2) shared(oom, ts, e) default(none)
+#pragma omp task firstprivate(ft, t) shared(thr) shared(oom, ts, e) default(none)
         {
             double b0 = psim_now();
-            if (list_tile(e, ft, t, reach2)) {
+            if (list_tile(e, ft, t, thr)) {
 #pragma omp atomic write
                 oom = 1;
             }
@@ -180,7 +203,8 @@ int force_build_lists(psim_sim *e, fmodel *m)
     }
     uint64_t entries = 0;
     for (uint32_t t = 0; t < m->ntiles; t++)
-        entries += m->tiles[t].len;
+        for (int b = 0; b < FORCE_BUCKETS; b++)
+            entries += m->tiles[t].len[b];
     e->stats.counter[FC_LIST_ENTRIES] += entries;
     e->stats.counter[FC_REBUILDS]++;
     e->stats.counter[FC_TASKS] += m->ntiles;

@@ -1,13 +1,26 @@
 /* One step of the force model: the force on each particle from the
- * positions at the start of the step, then its move (law.h), fused per
- * tile.  New positions go to the store's scratch arrays (x2, y2), swapped
- * in when every tile is done, so no tile waits for another: each tile is a
- * task without dependencies, and its particles' results do not depend on
- * which thread ran it. */
+ * positions at the start of the step, then its move (law.h).
+ *
+ * Lists (two rounds of tile tasks, no dependencies within a round):
+ *   force      each tile tests its pairs in the shells that may hold pairs
+ *              within the cutoff (branch-free, into a list of hits) and
+ *              writes the force of each hit on both of its particles as
+ *              records: its own particles' in its list, others' out;
+ *   integrate  records that crossed tiles are handed to their owners (in
+ *              tile order); each tile sums its particles' forces in the
+ *              order of the naive loop (over partner ids: only a particle
+ *              with three or more needs sorting, as x + a + b is
+ *              x + b + a) and moves them in place.
+ * Naive: one round of blocks, new positions to the store's scratch arrays
+ * (x2, y2) swapped in at the end, as every block reads all positions. */
 #include <math.h>
 #include <stdlib.h>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 #include "force.h"
+#include "../../engine/mem.h"
 #include "../../engine/timer.h"
 #include "../../engine/tstats.h"
 
@@ -52,26 +65,207 @@ static inline void move_one(const flaw *k, psim_store *s, ftile *t, uint32_t i, 
         t->v2max = v2;
 }
 
-static void tile_lists(const fmodel *m, psim_store *s, ftile *t)
+/* The force of one interacting pair on one of its particles, to the
+ * owner's tile's records or to the outgoing ones. */
+static inline void push_rec(ftile *t, uint32_t owner, int32_t partner, double fx, double fy)
+{
+    int local = owner - t->first < t->n;
+    frec **a = local ? &t->rec : &t->out;
+    size_t *n = local ? &t->nrec : &t->nout, *cap = local ? &t->rcap : &t->ocap;
+    if (*n == *cap && psim_reserve((void **)a, cap, *n + 1, sizeof **a)) {
+        t->oom = 1;
+        return;
+    }
+    (*a)[(*n)++] = (frec){owner, partner, fx, fy};
+}
+
+/* Pair (i, j) within the cutoff: the course's apply_force both ways. */
+static void pair_forces(const fmodel *m, const psim_store *s, ftile *t, fpair p)
 {
     const flaw *k = &m->law;
-    const double *x = s->x, *y = s->y;
-    uint32_t b = 0;
-    tile_reset(t);
-    for (uint32_t q = 0; q < t->n; q++) {
-        uint32_t i = t->first + q, end = t->end[q];
-        double px = x[i], py = y[i], ax = 0, ay = 0;
-        uint64_t hits = 0;
-        for (uint32_t a = b; a < end; a++)
-            hits += (uint64_t)flaw_pair(k, px, py, x[t->nbr[a]], y[t->nbr[a]], &ax, &ay);
-        if (m->stats)
-            for (uint32_t a = b; a < end; a++)
-                pair_stats(k, t, px, py, x[t->nbr[a]], y[t->nbr[a]]);
-        t->tests += end - b;
-        t->hits += hits;
-        b = end;
-        move_one(k, s, t, i, ax, ay);
+    double xi = s->x[p.i], yi = s->y[p.i], xj = s->x[p.j], yj = s->y[p.j];
+    double dx = xj - xi, dy = yj - yi;
+    double coef = flaw_coef(k, dx * dx + dy * dy);
+    push_rec(t, p.i, s->id[p.j], coef * dx, coef * dy);
+    push_rec(t, p.j, s->id[p.i], coef * (xi - xj), coef * (yi - yj));
+    t->hits += 2;
+    if (m->stats) {
+        pair_stats(k, t, xi, yi, xj, yj);
+        pair_stats(k, t, xj, yj, xi, yi);
     }
+}
+
+/* Round 1: the tile's pairs in the first nb shells. */
+static void tile_force(const fmodel *m, const psim_store *s, ftile *t, int nb)
+{
+    const double *x = s->x, *y = s->y, c2 = m->law.cutoff2;
+    tile_reset(t);
+    t->nrec = t->nout = 0;
+    for (int b = 0; b < nb; b++) {
+        const fpair *p = t->pair[b];
+        size_t len = t->len[b], nh = 0;
+        if (psim_reserve((void **)&t->hit, &t->hcap, len, sizeof *t->hit)) {
+            t->oom = 1;
+            return;
+        }
+        for (size_t q = 0; q < len; q++) {
+            double dx = x[p[q].j] - x[p[q].i], dy = y[p[q].j] - y[p[q].i];
+            t->hit[nh] = (uint32_t)q;
+            nh += !(dx * dx + dy * dy > c2);   /* NaN interacts, as in the course */
+        }
+        t->tests += len;
+        for (size_t h = 0; h < nh; h++)
+            pair_forces(m, s, t, p[t->hit[h]]);
+    }
+}
+
+static int by_owner_partner(const void *a, const void *b)
+{
+    const frec *p = a, *q = b;
+    if (p->owner != q->owner)
+        return p->owner < q->owner ? -1 : 1;
+    return (p->partner > q->partner) - (p->partner < q->partner);
+}
+
+/* Sum the forces on the tile's particles in partner id order, from +0 as
+ * the course's loop does; a particle with one or two is summed as they
+ * come (+0 + a + b is +0 + b + a), the others after a sort. */
+static int tile_sum(ftile *t)
+{
+    if (psim_reserve((void **)&t->slow, &t->scap, t->nrec, sizeof *t->slow))
+        return -1;
+    for (size_t r = 0; r < t->nrec; r++)
+        t->cnt[t->rec[r].owner - t->first]++;
+    size_t ns = 0;
+    for (size_t r = 0; r < t->nrec; r++) {
+        const frec *f = &t->rec[r];
+        uint32_t q = f->owner - t->first;
+        if (t->cnt[q] > 2) {
+            t->slow[ns++] = *f;
+            continue;
+        }
+        t->ax[q] += f->fx;
+        t->ay[q] += f->fy;
+    }
+    if (ns > 1)
+        qsort(t->slow, ns, sizeof *t->slow, by_owner_partner);
+    for (size_t r = 0; r < ns; r++) {
+        uint32_t q = t->slow[r].owner - t->first;
+        t->ax[q] += t->slow[r].fx;
+        t->ay[q] += t->slow[r].fy;
+    }
+    return 0;
+}
+
+/* The course's move of particles [q0, q1) of the tile, in place: the
+ * straight part in a loop the compiler vectorises, the reflections
+ * (rare: a particle that crossed a wall) after, in each chunk that has
+ * one.  Returns whether one left the box for good. */
+#define MOVE_CHUNK 64
+
+/* Over particles [q0, q1): the largest squared speed (into *v2max, a
+ * bound for the lists), and whether one is outside [0, size]^2 (NaN
+ * left out of both, as the course's comparisons leave it). */
+static int chunk_extent(const double *x, const double *y, const double *vx, const double *vy,
+                        uint32_t q0, uint32_t q1, double size, double *v2max)
+{
+    uint32_t q = q0;
+    double m = *v2max, lo = 0, hi = size;
+#ifdef __SSE2__
+    __m128d mm = _mm_set1_pd(m), mlo = _mm_set1_pd(lo), mhi = _mm_set1_pd(hi);
+    for (; q + 2 <= q1; q += 2) {
+        __m128d ux = _mm_loadu_pd(vx + q), uy = _mm_loadu_pd(vy + q);
+        __m128d px = _mm_loadu_pd(x + q), py = _mm_loadu_pd(y + q);
+        __m128d v2 = _mm_add_pd(_mm_mul_pd(ux, ux), _mm_mul_pd(uy, uy));
+        mm = _mm_max_pd(v2, mm);   /* the second operand when the first is NaN */
+        mlo = _mm_min_pd(px, _mm_min_pd(py, mlo));
+        mhi = _mm_max_pd(px, _mm_max_pd(py, mhi));
+    }
+    double l[2], h[2], v[2];
+    _mm_storeu_pd(v, mm), _mm_storeu_pd(l, mlo), _mm_storeu_pd(h, mhi);
+    m = v[0] > v[1] ? v[0] : v[1];
+    lo = l[0] < l[1] ? l[0] : l[1];
+    hi = h[0] > h[1] ? h[0] : h[1];
+#endif
+    int out = lo < 0 || hi > size;
+    for (; q < q1; q++) {
+        double v2 = vx[q] * vx[q] + vy[q] * vy[q];
+        m = v2 > m ? v2 : m;
+        out |= (x[q] < 0) | (x[q] > size) | (y[q] < 0) | (y[q] > size);
+    }
+    *v2max = m;
+    return out;
+}
+
+/* The course's move of particles [q0, q1) of the tile, in place: the
+ * straight part in a loop the compiler vectorises, the reflections (rare:
+ * a particle that crossed a wall) after, in a chunk that has one.
+ * Returns whether one left the box for good. */
+#define MOVE_CHUNK 64
+static int move_chunk(const flaw *law, const ftile *t, double *restrict x,
+                      double *restrict y, double *restrict vx, double *restrict vy, uint32_t q0,
+                      uint32_t q1, double *v2max)
+{
+    const flaw kl = *law, *k = &kl;   /* a copy: no store can change it */
+    const double *restrict ax = t->ax, *restrict ay = t->ay;
+    for (uint32_t q = q0; q < q1; q++) {
+        double ux = flaw_kick(k, vx[q], ax[q]), uy = flaw_kick(k, vy[q], ay[q]);
+        vx[q] = ux, vy[q] = uy;
+        x[q] = flaw_drift(k, x[q], ux), y[q] = flaw_drift(k, y[q], uy);
+    }
+    if (!chunk_extent(x, y, vx, vy, q0, q1, k->size, v2max))
+        return 0;
+    int lost = 0;
+    for (uint32_t q = q0; q < q1; q++)
+        lost |= flaw_bounce(k->size, &x[q], &vx[q]) | flaw_bounce(k->size, &y[q], &vy[q]);
+    return lost;
+}
+
+/* Round 2: sum and move the tile's particles in place (every tile's
+ * round 1, the only reader of positions, is done). */
+static void tile_integrate(const fmodel *m, psim_store *s, ftile *t)
+{
+    if (tile_sum(t)) {
+        t->oom = 1;
+        return;
+    }
+    uint32_t f = t->first;
+    double *x = s->x + f, *y = s->y + f, *vx = s->vx + f, *vy = s->vy + f, v2max = 0;
+    int lost = 0;
+    for (uint32_t q = 0; q < t->n; q += MOVE_CHUNK)
+        lost |= move_chunk(&m->law, t, x, y, vx, vy, q,
+                           t->n - q < MOVE_CHUNK ? t->n : q + MOVE_CHUNK, &v2max);
+    for (size_t r = 0; r < t->nrec; r++) {   /* zero again for the next step */
+        uint32_t q = t->rec[r].owner - f;
+        t->ax[q] = t->ay[q] = 0;
+        t->cnt[q] = 0;
+    }
+    t->v2max = v2max;
+    t->lost = lost;
+}
+
+/* Hand each outgoing record to its owner's tile, in tile order. */
+static int hand_over(fmodel *m)
+{
+    for (uint32_t t = 0; t < m->ntiles; t++) {
+        const ftile *src = &m->tiles[t];
+        for (size_t r = 0; r < src->nout; r++) {
+            uint32_t lo = 0, hi = m->ntiles, owner = src->out[r].owner;
+            while (hi - lo > 1) {   /* the last tile whose first <= owner */
+                uint32_t mid = (lo + hi) / 2;
+                if (m->tiles[mid].first <= owner)
+                    lo = mid;
+                else
+                    hi = mid;
+            }
+            ftile *dst = &m->tiles[lo];
+            if (dst->nrec == dst->rcap &&
+                psim_reserve((void **)&dst->rec, &dst->rcap, dst->nrec + 1, sizeof *dst->rec))
+                return -1;
+            dst->rec[dst->nrec++] = src->out[r];
+        }
+    }
+    return 0;
 }
 
 /* The course's loops: every j, in id order (the store is, without a grid). */
@@ -95,14 +289,16 @@ static void block_naive(const fmodel *m, psim_store *s, ftile *t)
     }
 }
 
-/* Totals of the tiles, in tile order; the new positions swapped in. */
+/* Totals of the tiles, in tile order: -1 if a particle left the box,
+ * -2 if a tile ran out of memory. */
 static int finish(psim_sim *e, fmodel *m)
 {
     double v2max = 0, dmin = 1.0, dsum = 0;
     uint64_t tests = 0, hits = 0, dn = 0;
-    int lost = 0;
+    int lost = 0, oom = 0;
     for (uint32_t t = 0; t < m->ntiles; t++) {
         const ftile *ft = &m->tiles[t];
+        oom |= ft->oom;
         v2max = fmax(v2max, ft->v2max);
         tests += ft->tests;
         hits += ft->hits;
@@ -111,10 +307,6 @@ static int finish(psim_sim *e, fmodel *m)
         dn += ft->dn;
         lost |= ft->lost;
     }
-    psim_store *s = &e->st;
-    double *tx = s->x, *ty = s->y;
-    s->x = s->x2, s->y = s->y2;
-    s->x2 = tx, s->y2 = ty;
     e->stats.counter[FC_PAIR_TESTS] += tests;
     e->stats.counter[FC_INTERACTIONS] += hits;
     m->drift += sqrt(v2max) * m->law.dt;
@@ -127,38 +319,83 @@ static int finish(psim_sim *e, fmodel *m)
         if (dmin < m->absmin)
             m->absmin = dmin;
     }
-    return lost ? -1 : 0;
+    return oom ? -2 : lost ? -1 : 0;
 }
 
-typedef void (*tile_fn)(const fmodel *m, psim_store *s, ftile *t);
-
-static int run_tiles(psim_sim *e, fmodel *m, tile_fn fn)
+/* How many shells may hold pairs within the cutoff: shell b's pairs
+ * were more than cutoff + b skin / B apart at the build, each particle
+ * has moved at most the drift bound since. */
+static int active_shells(const fmodel *m)
 {
-    psim_store *s = &e->st;
-    psim_thread_stats *ts = e->tstats;
-#pragma omp parallel num_threads(e->threads)
-#pragma omp single
-    for (uint32_t t = 0; t < m->ntiles; t++) {
-        ftile *ft = &m->tiles[t];
-#pragma omp task firstprivate(ft) shared(m, s, ts, fn) default(none)
-        {
-            double b0 = psim_now();
-            fn(m, s, ft);
-            psim_tstat_add(ts, FPHASE_FORCE, psim_now() - b0, 1, ft->n);
-        }
-    }
-    e->stats.counter[FC_TASKS] += m->ntiles;
-    return finish(e, m);
+    double reach = 2 * force_drift_bound(m), width = m->skin / FORCE_BUCKETS;
+    int nb = 1;
+    while (nb < FORCE_BUCKETS && nb * width <= reach)
+        nb++;
+    return nb;
 }
 
 int force_step_lists(psim_sim *e, fmodel *m)
 {
-    return run_tiles(e, m, tile_lists);
+    psim_store *s = &e->st;
+    psim_thread_stats *ts = e->tstats;
+    int nb = active_shells(m), oom = 0;
+    double t0 = psim_now(), t1 = t0;
+#pragma omp parallel num_threads(e->threads)
+#pragma omp single
+    {
+        for (uint32_t t = 0; t < m->ntiles; t++) {
+            ftile *ft = &m->tiles[t];
+#pragma omp task firstprivate(ft) shared(m, s, ts, nb) default(none)
+            {
+                double b0 = psim_now();
+                tile_force(m, s, ft, nb);
+                psim_tstat_add(ts, FPHASE_FORCE, psim_now() - b0, 1, ft->n);
+            }
+        }
+#pragma omp taskwait
+        t1 = psim_now();
+        oom = hand_over(m);
+        for (uint32_t t = 0; t < m->ntiles; t++) {
+            ftile *ft = &m->tiles[t];
+#pragma omp task firstprivate(ft) shared(m, s, ts) default(none)
+            {
+                double b0 = psim_now();
+                tile_integrate(m, s, ft);
+                psim_tstat_add(ts, FPHASE_INTEGRATE, psim_now() - b0, 1, ft->n);
+            }
+        }
+    }
+    double t2 = psim_now();
+    e->stats.phase_s[FPHASE_FORCE] += t1 - t0;
+    e->stats.phase_s[FPHASE_INTEGRATE] += t2 - t1;
+    e->stats.counter[FC_TASKS] += 2 * m->ntiles;
+    int rc = finish(e, m);
+    return oom ? -2 : rc;
 }
 
+/* The course's loops, new positions to the scratch arrays, swapped in. */
 int force_step_naive(psim_sim *e, fmodel *m)
 {
-    return run_tiles(e, m, block_naive);
+    psim_store *s = &e->st;
+    psim_thread_stats *ts = e->tstats;
+    double t0 = psim_now();
+#pragma omp parallel num_threads(e->threads)
+#pragma omp single
+    for (uint32_t t = 0; t < m->ntiles; t++) {
+        ftile *ft = &m->tiles[t];
+#pragma omp task firstprivate(ft) shared(m, s, ts) default(none)
+        {
+            double b0 = psim_now();
+            block_naive(m, s, ft);
+            psim_tstat_add(ts, FPHASE_FORCE, psim_now() - b0, 1, ft->n);
+        }
+    }
+    e->stats.phase_s[FPHASE_FORCE] += psim_now() - t0;
+    e->stats.counter[FC_TASKS] += m->ntiles;
+    double *tx = s->x, *ty = s->y;
+    s->x = s->x2, s->y = s->y2;
+    s->x2 = tx, s->y2 = ty;
+    return finish(e, m);
 }
 
 /* Blocks of the naive loop, as tiles without lists. */
