@@ -163,6 +163,32 @@ done
 same_file "$tmp/t1.fast.out" "$tmp/t1.naive.out" "n 2000: fast path vs --naive"
 format "$tmp/t1.fast.out" 2000 10
 
+# --- many tiles, and particles with many forces at once ---------------------------
+# Tiles of one cell: nearly every interacting pair crosses tiles, so its
+# force on the other particle is handed to that particle's tile.
+for t in 1 2 3; do
+    force "tile1.$t" -n 3000 --seed 5 --steps 60 --tile 1 --threads "$t"
+done
+force tile1.naive -n 3000 --seed 5 --steps 60 --naive
+same_file "$tmp/tile1.1.out" "$tmp/tile1.naive.out" "tiles of one cell vs --naive"
+same_file "$tmp/tile1.1.out" "$tmp/tile1.2.out" "tiles of one cell: 1 vs 2 threads"
+same_file "$tmp/tile1.1.out" "$tmp/tile1.3.out" "tiles of one cell: 1 vs 3 threads"
+# A crowded scene (cutoff 4 around disks 2 apart): nearly every particle
+# has three or more forces a step, summed after a sort by partner id.
+gen "$tmp/crowd.in" --n 600 --r 1 --density 0.5 --steps 60 --vmin -0.1 --vmax 0.1 --place lattice --seed 5
+for t in 1 3; do
+    run_ok "$PSIM" -q --model force -O cutoff=4 -O dt=0.1 --tile 1 --threads "$t" --check \
+        --stats "$tmp/crowd.$t.json" -o "$tmp/crowd.$t.out" "$tmp/crowd.in"
+done
+run_ok "$PSIM" -q --model force -O cutoff=4 -O dt=0.1 --naive -o "$tmp/crowd.naive.out" "$tmp/crowd.in"
+same_file "$tmp/crowd.1.out" "$tmp/crowd.naive.out" "crowded scene: fast path vs --naive"
+same_file "$tmp/crowd.1.out" "$tmp/crowd.3.out" "crowded scene: 1 vs 3 threads"
+"$PY" - "$tmp/crowd.1.json" <<'PYEOF' || fail "crowded scene: the sorted sums were not exercised"
+import json, sys
+c = json.load(open(sys.argv[1]))
+assert c["sorted_sums"] > c["interactions"] / 2, c
+PYEOF
+
 # --- the output format and the number of frames ----------------------------------
 force def -n 50 --seed 2
 format "$tmp/def.out" 50 100

@@ -24,7 +24,7 @@
 #include "law.h"
 
 enum { FPHASE_NLIST = PSIM_PHASE_MODEL, FPHASE_FORCE, FPHASE_INTEGRATE };
-enum { FC_PAIR_TESTS, FC_INTERACTIONS, FC_REBUILDS, FC_LIST_ENTRIES, FC_TASKS };
+enum { FC_PAIR_TESTS, FC_INTERACTIONS, FC_REBUILDS, FC_LIST_ENTRIES, FC_TASKS, FC_SORTED };
 
 /* The course's constants (common.h). */
 #define CS267_DENSITY 0.0005
@@ -81,7 +81,7 @@ typedef struct ftile {
     size_t acap;
     /* this step: */
     double v2max;           /* largest squared speed after the move */
-    uint64_t tests, hits;
+    uint64_t tests, hits, sorted;
     double dmin, dsum;      /* --force-stats: nearest distance / cutoff, sum */
     uint64_t dn;
     int lost;               /* a particle left the box for good */

@@ -45,7 +45,7 @@ static inline void pair_stats(const flaw *k, ftile *t, double px, double py, dou
 static void tile_reset(ftile *t)
 {
     t->v2max = 0;
-    t->tests = t->hits = 0;
+    t->tests = t->hits = t->sorted = 0;
     t->dmin = 1.0;
     t->dsum = 0;
     t->dn = 0;
@@ -149,6 +149,7 @@ static int tile_sum(ftile *t)
     }
     if (ns > 1)
         qsort(t->slow, ns, sizeof *t->slow, by_owner_partner);
+    t->sorted = ns;
     for (size_t r = 0; r < ns; r++) {
         uint32_t q = t->slow[r].owner - t->first;
         t->ax[q] += t->slow[r].fx;
@@ -294,7 +295,7 @@ static void block_naive(const fmodel *m, psim_store *s, ftile *t)
 static int finish(psim_sim *e, fmodel *m)
 {
     double v2max = 0, dmin = 1.0, dsum = 0;
-    uint64_t tests = 0, hits = 0, dn = 0;
+    uint64_t tests = 0, hits = 0, dn = 0, sorted = 0;
     int lost = 0, oom = 0;
     for (uint32_t t = 0; t < m->ntiles; t++) {
         const ftile *ft = &m->tiles[t];
@@ -302,6 +303,7 @@ static int finish(psim_sim *e, fmodel *m)
         v2max = fmax(v2max, ft->v2max);
         tests += ft->tests;
         hits += ft->hits;
+        sorted += ft->sorted;
         dmin = fmin(dmin, ft->dmin);
         dsum += ft->dsum;
         dn += ft->dn;
@@ -309,6 +311,7 @@ static int finish(psim_sim *e, fmodel *m)
     }
     e->stats.counter[FC_PAIR_TESTS] += tests;
     e->stats.counter[FC_INTERACTIONS] += hits;
+    e->stats.counter[FC_SORTED] += sorted;
     m->drift += sqrt(v2max) * m->law.dt;
     m->since_build++;
     if (m->stats) {            /* the course's per-step bookkeeping */
