@@ -60,10 +60,12 @@ typedef struct frec {
  * neighbouring tile). */
 typedef struct ftile {
     uint32_t first, n;
-    fpair *pair[FORCE_BUCKETS + 1];   /* the last: scratch for pairs beyond reach */
-    size_t len[FORCE_BUCKETS + 1], cap[FORCE_BUCKETS + 1];
+    fpair *pair[FORCE_BUCKETS];
+    size_t len[FORCE_BUCKETS], cap[FORCE_BUCKETS];
     double *cx, *cy;        /* candidates of the cell being listed */
-    uint32_t *cj;
+    uint32_t *cj;           /* their places */
+    uint32_t *near;         /* of one particle's, those within reach */
+    double *nr2;            /* and their squared distances */
     size_t ccap;
     uint32_t *win;          /* the tile's cells and a border: first, end */
     size_t wcap;

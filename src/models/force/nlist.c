@@ -81,9 +81,11 @@ static int reserve_candidates(ftile *t, size_t need)
 {
     if (need <= t->ccap)
         return 0;
-    size_t c2 = t->ccap, c3 = t->ccap;
+    size_t c2 = t->ccap, c3 = t->ccap, c4 = t->ccap, c5 = t->ccap;
     return psim_reserve((void **)&t->cy, &c2, need, sizeof *t->cy) ||
            psim_reserve((void **)&t->cj, &c3, need, sizeof *t->cj) ||
+           psim_reserve((void **)&t->near, &c4, need, sizeof *t->near) ||
+           psim_reserve((void **)&t->nr2, &c5, need, sizeof *t->nr2) ||
            psim_reserve((void **)&t->cx, &t->ccap, need, sizeof *t->cx);
 }
 
@@ -116,34 +118,33 @@ static long gather(const psim_sim *e, ftile *t, uint32_t c)
 }
 
 /* Append the pairs of particle i with candidates a .. nc - 1 within
- * reach, each to the shell of its distance.  Branch-free: every candidate
- * is written to its shell's list (to the tile's scratch list when beyond
- * reach), whose length grows by one. */
+ * reach, each to the shell of its distance: first those within reach are
+ * picked out (branch-free, the count in a register), then only they are
+ * given a shell. */
 static int list_one(const psim_sim *e, ftile *t, uint32_t i, long a, long nc,
                     const double *thr)
 {
-    for (int b = 0; b <= FORCE_BUCKETS; b++)
-        if (t->len[b] + (size_t)nc > t->cap[b] &&
-            psim_reserve((void **)&t->pair[b], &t->cap[b], t->len[b] + (size_t)nc,
-                         sizeof *t->pair[b]))
-            return -1;
-    fpair *list[FORCE_BUCKETS + 1];
-    size_t len[FORCE_BUCKETS + 1];
-    for (int b = 0; b <= FORCE_BUCKETS; b++) {
-        list[b] = t->pair[b];
-        len[b] = t->len[b];
-    }
-    len[FORCE_BUCKETS] = 0;
-    double px = e->st.x[i], py = e->st.y[i];
+    double px = e->st.x[i], py = e->st.y[i], reach2 = thr[FORCE_BUCKETS - 1];
+    const double *cx = t->cx, *cy = t->cy;
+    const uint32_t *cj = t->cj;
+    uint32_t *near = t->near;
+    double *nr2 = t->nr2;
+    size_t nn = 0;
     for (long k = a; k < nc; k++) {
-        double dx = t->cx[k] - px, dy = t->cy[k] - py, r2 = dx * dx + dy * dy;
-        int b = 0;
-        for (int m = 0; m < FORCE_BUCKETS; m++)
-            b += r2 > thr[m];
-        list[b][len[b]++] = (fpair){i, t->cj[k]};
+        double dx = cx[k] - px, dy = cy[k] - py, r2 = dx * dx + dy * dy;
+        near[nn] = cj[k];
+        nr2[nn] = r2;
+        nn += r2 <= reach2;
     }
-    for (int b = 0; b < FORCE_BUCKETS; b++)
-        t->len[b] = len[b];
+    for (size_t h = 0; h < nn; h++) {
+        int b = 0;
+        for (int m = 0; m < FORCE_BUCKETS - 1; m++)
+            b += nr2[h] > thr[m];
+        if (t->len[b] == t->cap[b] &&
+            psim_reserve((void **)&t->pair[b], &t->cap[b], t->len[b] + 1, sizeof *t->pair[b]))
+            return -1;
+        t->pair[b][t->len[b]++] = (fpair){i, near[h]};
+    }
     return 0;
 }
 
