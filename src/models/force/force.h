@@ -96,6 +96,7 @@ typedef struct fmodel {
     double skin;            /* list radius = cutoff + skin */
     double drift;           /* bound on any displacement since the build */
     long since_build;       /* steps since the build */
+    int shells;             /* this step: the shells to test */
     int built;
     ftile *tiles;
     uint32_t ntiles, cap_tiles;

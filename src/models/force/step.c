@@ -95,9 +95,11 @@ static void pair_forces(const fmodel *m, const psim_store *s, ftile *t, fpair p)
     }
 }
 
-/* Round 1: the tile's pairs in the first nb shells. */
-static void tile_force(const fmodel *m, const psim_store *s, ftile *t, int nb)
+/* Round 1: the tile's pairs in the shells that may hold pairs within the
+ * cutoff (m->shells). */
+static void tile_force(const fmodel *m, psim_store *s, ftile *t)
 {
+    const int nb = m->shells;
     const double *x = s->x, *y = s->y, c2 = m->law.cutoff2;
     tile_reset(t);
     t->nrec = t->nout = 0;
@@ -337,36 +339,39 @@ static int active_shells(const fmodel *m)
     return nb;
 }
 
+typedef void (*tile_fn)(const fmodel *m, psim_store *s, ftile *t);
+
+/* One task per tile running fn, timed as phase; returns when all are done
+ * (called inside a parallel region's single). */
+static void run_tiles(const fmodel *m, psim_store *s, psim_thread_stats *ts, tile_fn fn,
+                      int phase)
+{
+    for (uint32_t t = 0; t < m->ntiles; t++) {
+        ftile *ft = &m->tiles[t];
+#pragma omp task firstprivate(ft, m, s, ts, fn, phase) default(none)
+        {
+            double b0 = psim_now();
+            fn(m, s, ft);
+            psim_tstat_add(ts, phase, psim_now() - b0, 1, ft->n);
+        }
+    }
+#pragma omp taskwait
+}
+
 int force_step_lists(psim_sim *e, fmodel *m)
 {
     psim_store *s = &e->st;
     psim_thread_stats *ts = e->tstats;
-    int nb = active_shells(m), oom = 0;
+    int oom = 0;
+    m->shells = active_shells(m);
     double t0 = psim_now(), t1 = t0;
 #pragma omp parallel num_threads(e->threads)
 #pragma omp single
     {
-        for (uint32_t t = 0; t < m->ntiles; t++) {
-            ftile *ft = &m->tiles[t];
-#pragma omp task firstprivate(ft) shared(m, s, ts, nb) default(none)
-            {
-                double b0 = psim_now();
-                tile_force(m, s, ft, nb);
-                psim_tstat_add(ts, FPHASE_FORCE, psim_now() - b0, 1, ft->n);
-            }
-        }
-#pragma omp taskwait
+        run_tiles(m, s, ts, tile_force, FPHASE_FORCE);
         t1 = psim_now();
         oom = hand_over(m);
-        for (uint32_t t = 0; t < m->ntiles; t++) {
-            ftile *ft = &m->tiles[t];
-#pragma omp task firstprivate(ft) shared(m, s, ts) default(none)
-            {
-                double b0 = psim_now();
-                tile_integrate(m, s, ft);
-                psim_tstat_add(ts, FPHASE_INTEGRATE, psim_now() - b0, 1, ft->n);
-            }
-        }
+        run_tiles(m, s, ts, tile_integrate, FPHASE_INTEGRATE);
     }
     double t2 = psim_now();
     e->stats.phase_s[FPHASE_FORCE] += t1 - t0;
@@ -380,19 +385,10 @@ int force_step_lists(psim_sim *e, fmodel *m)
 int force_step_naive(psim_sim *e, fmodel *m)
 {
     psim_store *s = &e->st;
-    psim_thread_stats *ts = e->tstats;
     double t0 = psim_now();
 #pragma omp parallel num_threads(e->threads)
 #pragma omp single
-    for (uint32_t t = 0; t < m->ntiles; t++) {
-        ftile *ft = &m->tiles[t];
-#pragma omp task firstprivate(ft) shared(m, s, ts) default(none)
-        {
-            double b0 = psim_now();
-            block_naive(m, s, ft);
-            psim_tstat_add(ts, FPHASE_FORCE, psim_now() - b0, 1, ft->n);
-        }
-    }
+    run_tiles(m, s, e->tstats, block_naive, FPHASE_FORCE);
     e->stats.phase_s[FPHASE_FORCE] += psim_now() - t0;
     e->stats.counter[FC_TASKS] += m->ntiles;
     double *tx = s->x, *ty = s->y;
