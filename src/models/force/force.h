@@ -2,17 +2,16 @@
  *
  * A step, as the course's starter code: the force on every particle from
  * the positions at the start of the step (law.h), then every particle
- * moves.  psim's fast path finds the pairs within the cutoff through a
- * Verlet neighbour list (cutoff + skin) built from the engine's Morton
- * sort, rebuilt (with the sort) only when the particles may have moved
- * half the skin since the last build; each particle's list is in id order,
- * so its force is summed in the order of the course's naive loop and the
- * results are bit for bit those of the naive code, for any thread count.
- * Phases:
- *   nlist  the sort and the neighbour lists (only at rebuilds);
- *   force  forces and move, fused: each tile reads the old positions and
- *          writes the new ones beside them (the store's sort scratch),
- *          so tiles are independent tasks with no dependencies.
+ * moves.  psim's fast path finds the pairs within the cutoff through
+ * Verlet pair lists (cutoff + skin, each pair once, filed in shells by
+ * distance) built from the engine's Morton sort, rebuilt (with the sort)
+ * only when the particles may have moved half the skin since the last
+ * build; each particle's forces are summed in the order of the course's
+ * naive loop (step.c), so the results are bit for bit those of the naive
+ * code, for any thread count.  Phases:
+ *   nlist      the lists (only at rebuilds; the sort is the engine's);
+ *   force      pair tests and forces, as records, a task per tile;
+ *   integrate  records handed across tiles, sums, the move in place.
  * --option naive=1 runs the course's O(n^2) loops instead (for tests). */
 #ifndef PSIM_FORCE_H
 #define PSIM_FORCE_H
