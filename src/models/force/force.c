@@ -47,8 +47,7 @@ static void destroy(void *p)
         ftile *t_ = &m->tiles[t];
         for (int b = 0; b < FORCE_BUCKETS; b++)
             psim_free(t_->pair[b]);
-        psim_free(t_->cx), psim_free(t_->cy), psim_free(t_->cj), psim_free(t_->win);
-        psim_free(t_->near), psim_free(t_->nr2);
+        psim_free(t_->rx), psim_free(t_->ry), psim_free(t_->rj), psim_free(t_->win);
         psim_free(t_->hit), psim_free(t_->rec), psim_free(t_->out), psim_free(t_->slow);
         psim_free(t_->ax), psim_free(t_->ay), psim_free(t_->cnt);
     }

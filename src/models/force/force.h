@@ -61,11 +61,9 @@ typedef struct ftile {
     uint32_t first, n;
     fpair *pair[FORCE_BUCKETS];
     size_t len[FORCE_BUCKETS], cap[FORCE_BUCKETS];
-    double *cx, *cy;        /* candidates of the cell being listed */
-    uint32_t *cj;           /* their places */
-    uint32_t *near;         /* of one particle's, those within reach */
-    double *nr2;            /* and their squared distances */
-    size_t ccap;
+    double *rx, *ry;        /* slot rows of the window rows being listed */
+    uint32_t *rj;           /* their places */
+    size_t rcap_slots;
     uint32_t *win;          /* the tile's cells and a border: first, end */
     size_t wcap;
     int wx0, wy0, W;        /* the window's first cell and side */

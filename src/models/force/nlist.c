@@ -4,9 +4,17 @@
  * pair is listed once, by the cell that sees the other's cell in its
  * forward half of the 3 x 3 stencil (a half list: half the tests of a
  * full one), in the shell of its distance (force.h).  The order of the
- * pairs does not matter: step.c sums each particle's forces in id order. */
+ * pairs does not matter: step.c sums each particle's forces in id order.
+ * A tile is listed row by row of cells from "slot rows": each cell's first
+ * SLOTS particles copied into fixed slots (empty ones far away), so that a
+ * particle is tested against its forward half (20 slots) in a fixed,
+ * unrolled loop of SSE2 pairs without a branch; the few particles beyond
+ * SLOTS in a cell are listed one by one. */
 #include <stdlib.h>
 #include <string.h>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 #include "force.h"
 #include "../../engine/mem.h"
@@ -77,96 +85,168 @@ static int plan_window(const psim_sim *e, ftile *t, uint32_t tile)
     return 0;
 }
 
-static int reserve_candidates(ftile *t, size_t need)
+/* Particles per cell in the slot rows; a cell's further particles (its
+ * "extras", a few per cent of the particles at the course's density) are
+ * listed one by one (list_extra). */
+#define SLOTS 4
+/* Position of an empty slot: farther than any reach from any particle. */
+#define FAR 1e300
+
+static int reserve_rows(ftile *t)
 {
-    if (need <= t->ccap)
+    size_t need = 3 * (size_t)t->W * SLOTS;
+    if (need <= t->rcap_slots)
         return 0;
-    size_t c2 = t->ccap, c3 = t->ccap, c4 = t->ccap, c5 = t->ccap;
-    return psim_reserve((void **)&t->cy, &c2, need, sizeof *t->cy) ||
-           psim_reserve((void **)&t->cj, &c3, need, sizeof *t->cj) ||
-           psim_reserve((void **)&t->near, &c4, need, sizeof *t->near) ||
-           psim_reserve((void **)&t->nr2, &c5, need, sizeof *t->nr2) ||
-           psim_reserve((void **)&t->cx, &t->ccap, need, sizeof *t->cx);
+    size_t c2 = t->rcap_slots, c3 = t->rcap_slots;
+    return psim_reserve((void **)&t->ry, &c2, need, sizeof *t->ry) ||
+           psim_reserve((void **)&t->rj, &c3, need, sizeof *t->rj) ||
+           psim_reserve((void **)&t->rx, &t->rcap_slots, need, sizeof *t->rx);
 }
 
-/* The forward half of the 3 x 3 stencil: the cell itself first, then
- * the cells to the east, north-west, north and north-east. */
-static const int fwd_dx[5] = {0, 1, -1, 0, 1}, fwd_dy[5] = {0, 0, 1, 1, 1};
-
-/* Gather the particles of cell c and its forward cells into the tile's
- * candidate buffer (cell c's first); returns their number, or -1. */
-static long gather(const psim_sim *e, ftile *t, uint32_t c)
+/* Slot row of window row ly (a ring of three rows: below, own, above). */
+static size_t row_at(const ftile *t, int ly)
 {
-    const psim_store *s = &e->st;
-    const psim_grid *g = &e->grid;
-    int lx = g->cell_x[c] - t->wx0, ly = g->cell_y[c] - t->wy0;
-    const uint32_t *w[5];
-    size_t k = 0, need = 0;
-    for (int f = 0; f < 5; f++) {
-        w[f] = t->win + 2 * ((size_t)(ly + fwd_dy[f]) * (size_t)t->W + (size_t)(lx + fwd_dx[f]));
-        need += w[f][1] - w[f][0];
-    }
-    if (reserve_candidates(t, need))
-        return -1;
-    for (int f = 0; f < 5; f++)
-        for (uint32_t j = w[f][0]; j < w[f][1]; j++, k++) {
-            t->cx[k] = s->x[j];
-            t->cy[k] = s->y[j];
-            t->cj[k] = j;
+    return (size_t)(ly % 3) * (size_t)t->W * SLOTS;
+}
+
+/* Copy window row ly's cells into its slot row: the first SLOTS particles
+ * of each cell, the empty slots FAR away. */
+static void fill_row(const psim_store *s, ftile *t, int ly)
+{
+    size_t base = row_at(t, ly);
+    double *rx = t->rx + base, *ry = t->ry + base;
+    uint32_t *rj = t->rj + base;
+    for (int lx = 0; lx < t->W; lx++) {
+        const uint32_t *w = t->win + 2 * ((size_t)ly * (size_t)t->W + (size_t)lx);
+        uint32_t n = w[1] - w[0] < SLOTS ? w[1] - w[0] : SLOTS;
+        for (uint32_t k = 0; k < SLOTS; k++) {
+            size_t q = (size_t)lx * SLOTS + k;
+            rx[q] = k < n ? s->x[w[0] + k] : FAR;
+            ry[q] = k < n ? s->y[w[0] + k] : FAR;
+            rj[q] = k < n ? w[0] + k : 0;
         }
-    return (long)k;
+    }
 }
 
-/* Append the pairs of particle i with candidates a .. nc - 1 within
- * reach, each to the shell of its distance: first those within reach are
- * picked out (branch-free, the count in a register), then only they are
- * given a shell. */
-static int list_one(const psim_sim *e, ftile *t, uint32_t i, long a, long nc,
-                    const double *thr)
+/* Which of the n slots (x, y) are within reach (r2 <= reach2) of (px, py),
+ * as bits; their squared distances to r2.  n is even and a constant where
+ * this is inlined, so the loop unrolls, without a branch. */
+static inline unsigned near_mask(const double *x, const double *y, int n, double px, double py,
+                                 double reach2, double *r2)
 {
-    double px = e->st.x[i], py = e->st.y[i], reach2 = thr[FORCE_BUCKETS - 1];
-    const double *cx = t->cx, *cy = t->cy;
-    const uint32_t *cj = t->cj;
-    uint32_t *near = t->near;
-    double *nr2 = t->nr2;
-    size_t nn = 0;
-    for (long k = a; k < nc; k++) {
-        double dx = cx[k] - px, dy = cy[k] - py, r2 = dx * dx + dy * dy;
-        near[nn] = cj[k];
-        nr2[nn] = r2;
-        nn += r2 <= reach2;
+    unsigned m = 0;
+#ifdef __SSE2__
+    __m128d vx = _mm_set1_pd(px), vy = _mm_set1_pd(py), vr = _mm_set1_pd(reach2);
+    for (int q = 0; q < n; q += 2) {
+        __m128d dx = _mm_sub_pd(_mm_loadu_pd(x + q), vx);
+        __m128d dy = _mm_sub_pd(_mm_loadu_pd(y + q), vy);
+        __m128d d2 = _mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy));
+        _mm_storeu_pd(r2 + q, d2);
+        m |= (unsigned)_mm_movemask_pd(_mm_cmple_pd(d2, vr)) << q;
     }
-    for (size_t h = 0; h < nn; h++) {
-        int b = 0;
-        for (int m = 0; m < FORCE_BUCKETS - 1; m++)
-            b += nr2[h] > thr[m];
-        if (t->len[b] == t->cap[b] &&
-            psim_reserve((void **)&t->pair[b], &t->cap[b], t->len[b] + 1, sizeof *t->pair[b]))
+#else
+    for (int q = 0; q < n; q++) {
+        double dx = x[q] - px, dy = y[q] - py;
+        r2[q] = dx * dx + dy * dy;
+        m |= (unsigned)(r2[q] <= reach2) << q;
+    }
+#endif
+    return m;
+}
+
+/* Room for `more` pairs in every shell. */
+static int reserve_pairs(ftile *t, size_t more)
+{
+    for (int b = 0; b < FORCE_BUCKETS; b++)
+        if (t->len[b] + more > t->cap[b] &&
+            psim_reserve((void **)&t->pair[b], &t->cap[b], t->len[b] + more, sizeof *t->pair[b]))
             return -1;
-        t->pair[b][t->len[b]++] = (fpair){i, near[h]};
-    }
     return 0;
 }
 
+/* File pair (i, j) at squared distance r2 in its shell (room reserved). */
+static inline void file_pair(ftile *t, uint32_t i, uint32_t j, double r2, const double *thr)
+{
+    int b = 0;
+    for (int m = 0; m < FORCE_BUCKETS - 1; m++)
+        b += r2 > thr[m];
+    t->pair[b][t->len[b]++] = (fpair){i, j};
+}
+
+/* The pairs of extra particle o of window cell (lx, ly): with every
+ * slotted particle of the 3 x 3 cells (no slotted particle sees o), and
+ * with the extras of the forward half (those after o in its own cell). */
+static int list_extra(const psim_store *s, ftile *t, int lx, int ly, uint32_t o,
+                      const double *thr)
+{
+    const double reach2 = thr[FORCE_BUCKETS - 1];
+    for (int dy = -1; dy <= 1; dy++)
+        for (int dx = -1; dx <= 1; dx++) {
+            const uint32_t *w = t->win + 2 * ((size_t)(ly + dy) * (size_t)t->W + (size_t)(lx + dx));
+            int fwd = dy > 0 || (dy == 0 && dx > 0);
+            for (uint32_t j = w[0]; j < w[1]; j++) {
+                int extra = j - w[0] >= SLOTS;
+                if (extra && !(fwd || (dx == 0 && dy == 0 && j > o)))
+                    continue;
+                double ex = s->x[j] - s->x[o], ey = s->y[j] - s->y[o], r2 = ex * ex + ey * ey;
+                if (!(r2 <= reach2))
+                    continue;
+                if (reserve_pairs(t, 1))
+                    return -1;
+                file_pair(t, o, j, r2, thr);
+            }
+        }
+    return 0;
+}
+
+/* The pairs of window cell (lx, ly)'s slotted particles with the slots of
+ * the forward half: the later slots of the cell and the cell to the east
+ * (2 SLOTS contiguous slots), the three cells above (3 SLOTS), tested
+ * without a branch; then its extras. */
+static int list_cell(const psim_store *s, ftile *t, int lx, int ly, const double *thr)
+{
+    const uint32_t *w = t->win + 2 * ((size_t)ly * (size_t)t->W + (size_t)lx);
+    uint32_t cnt = w[1] - w[0], ns = cnt < SLOTS ? cnt : SLOTS;
+    if (cnt == 0)
+        return 0;
+    if (reserve_pairs(t, (size_t)ns * 5 * SLOTS))
+        return -1;
+    size_t own = row_at(t, ly) + (size_t)lx * SLOTS, up = row_at(t, ly + 1) + (size_t)(lx - 1) * SLOTS;
+    const double *ox = t->rx + own, *oy = t->ry + own, *ux = t->rx + up, *uy = t->ry + up;
+    const uint32_t *oj = t->rj + own, *uj = t->rj + up;
+    const double reach2 = thr[FORCE_BUCKETS - 1];
+    for (uint32_t k = 0; k < ns; k++) {
+        double r2[5 * SLOTS], px = ox[k], py = oy[k];
+        unsigned m = near_mask(ox, oy, 2 * SLOTS, px, py, reach2, r2) & ~((2u << k) - 1);
+        m |= near_mask(ux, uy, 3 * SLOTS, px, py, reach2, r2 + 2 * SLOTS) << (2 * SLOTS);
+        for (; m; m &= m - 1) {
+            int q = __builtin_ctz(m);
+            file_pair(t, w[0] + k, q < 2 * SLOTS ? oj[q] : uj[q - 2 * SLOTS], r2[q], thr);
+        }
+    }
+    for (uint32_t o = w[0] + SLOTS; o < w[1]; o++)
+        if (list_extra(s, t, lx, ly, o, thr))
+            return -1;
+    return 0;
+}
+
+/* The tile's cells row by row, with the slot rows of the row below, its
+ * own and the row above. */
 static int list_tile(const psim_sim *e, ftile *t, uint32_t tile, const double *thr)
 {
-    const psim_grid *g = &e->grid;
-    uint32_t c0 = g->tile_cell0[tile], c1 = g->tile_cell0[tile + 1];
     for (int b = 0; b < FORCE_BUCKETS; b++)
         t->len[b] = 0;
     if (t->n == 0)
         return 0;
-    if (plan_window(e, t, tile))
+    if (plan_window(e, t, tile) || reserve_rows(t))
         return -1;
-    for (uint32_t c = c0; c < c1; c++) {
-        uint32_t i0 = g->cellstart[c], i1 = g->cellstart[c + 1];
-        if (i0 == i1)
-            continue;
-        long nc = gather(e, t, c);
-        if (nc < 0)
-            return -1;
-        for (uint32_t i = i0; i < i1; i++)
-            if (list_one(e, t, i, (long)(i - i0) + 1, nc, thr))
+    int S = t->W - 2;
+    fill_row(&e->st, t, 0);
+    fill_row(&e->st, t, 1);
+    for (int ly = 1; ly <= S; ly++) {
+        fill_row(&e->st, t, ly + 1);
+        for (int lx = 1; lx <= S; lx++)
+            if (list_cell(&e->st, t, lx, ly, thr))
                 return -1;
     }
     return 0;
