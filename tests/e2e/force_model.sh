@@ -189,33 +189,6 @@ c = json.load(open(sys.argv[1]))
 assert c["sorted_sums"] > c["interactions"] / 2, c
 PYEOF
 
-# --- particles that outrun the lists ---------------------------------------------
-# A small skin and a large escape fraction: most particles move more than
-# half the skin before a rebuild and are searched for one by one (with the
-# escaped ones near them), on tiles of one cell and of many, at 1 to 3
-# threads; escape=0 rebuilds as soon as one escapes.  All give the bytes
-# of the naive loops.
-force esc.naive -n 3000 --seed 9 --steps 120 --naive
-for opts in "--tile 1 --threads 1" "--tile 1 --threads 3" "--tile 2 --threads 2" "--threads 1"; do
-    name="esc.${opts// /}"
-    # shellcheck disable=SC2086
-    force "$name" -n 3000 --seed 9 --steps 120 -O skin=0.3 -O escape=1 $opts --stats "$tmp/$name.json"
-    same_file "$tmp/$name.out" "$tmp/esc.naive.out" "escaped particles ($opts) vs --naive"
-done
-"$PY" - "$tmp/esc.--tile1--threads1.json" <<'PYEOF' || fail "the escaped particles' search was not exercised"
-import json, sys
-c = json.load(open(sys.argv[1]))
-# most particle-steps went through the search, and few rebuilds were made
-assert c["escaped"] > 3000 * 120 / 2 and c["rebuilds"] < 10, c
-PYEOF
-force esc.zero -n 3000 --seed 9 --steps 120 -O escape=0 --stats "$tmp/esc.zero.json"
-same_file "$tmp/esc.zero.out" "$tmp/esc.naive.out" "escape=0 vs --naive"
-"$PY" - "$tmp/esc.zero.json" <<'PYEOF' || fail "escape=0 searched for escaped particles"
-import json, sys
-c = json.load(open(sys.argv[1]))
-assert c["escaped"] == 0 and c["rebuilds"] > 1, c
-PYEOF
-
 # --- the output format and the number of frames ----------------------------------
 force def -n 50 --seed 2
 format "$tmp/def.out" 50 100
@@ -288,7 +261,7 @@ bad 2 "not both" -n 100 "$tmp/scene.in"
 bad 2 "--seed needs -n" --seed 3
 bad 2 "--seed needs -n" --seed 3 "$tmp/scene.in"
 bad 1 "no option 'nosuch'" -n 10 --option nosuch=1
-for o in dt mass cutoff skin escape naive stats; do
+for o in dt mass cutoff skin naive stats; do
     [[ $FAIL_LINE == *"$o"* ]] || fail "the unknown-option message does not list '$o': $FAIL_LINE"
 done
 bad 1 "option dt: 'abc'" -n 10 --option dt=abc

@@ -16,10 +16,6 @@
  * the lists are sparse (about one neighbour), so every candidate beyond
  * the radius is wasted work. */
 #define FORCE_CELL_PARTICLES 1.0
-/* Default fraction of the particles that may escape (move more than half
- * the skin since the build, then searched for one by one) before the
- * lists are built again (docs/performance.md, "force model"). */
-#define FORCE_ESCAPE 0.01
 
 /* The course's constants for its own scenes; for a scene of disks (a
  * file), the cutoff is the contact distance 2r, a step is one time unit
@@ -53,9 +49,8 @@ static void destroy(void *p)
             psim_free(t_->pair[b]);
         psim_free(t_->rx), psim_free(t_->ry), psim_free(t_->rj), psim_free(t_->win);
         psim_free(t_->hit), psim_free(t_->rec), psim_free(t_->out), psim_free(t_->slow);
-        psim_free(t_->ax), psim_free(t_->ay), psim_free(t_->cnt), psim_free(t_->escl);
+        psim_free(t_->ax), psim_free(t_->ay), psim_free(t_->cnt);
     }
-    psim_free(m->x0), psim_free(m->y0), psim_free(m->eg);
     free(m->tiles);
     free(m);
 }
@@ -67,7 +62,6 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
         goto oom;
     set_law(&m->law, e, sc);
     m->skin = psim_engine_option(e, "skin", FORCE_SKIN) * m->law.cutoff;
-    m->escape = psim_engine_option(e, "escape", FORCE_ESCAPE);
     m->naive = psim_engine_option(e, "naive", 0) != 0;
     m->stats = psim_engine_option(e, "stats", 0) != 0;
     m->absmin = 1.0;
@@ -85,20 +79,20 @@ oom:
     return NULL;
 }
 
-/* Whether to build the lists again: the lists hold every pair within the
- * cutoff of particles that have not escaped (moved more than half the
- * skin since the build), escaped ones are searched for one by one (step.c),
- * and more than a fraction `escape` of the particles have escaped. */
-static int lists_stale(const psim_sim *e, const fmodel *m)
+/* Whether some pair within the cutoff may be missing from the lists: each
+ * particle may have moved drift (plus a few ulps of the box a step) since
+ * the build, so pairs closer than the cutoff were within cutoff + skin
+ * then unless 2 drift > skin. */
+static int lists_stale(const fmodel *m)
 {
-    return !m->built || (double)m->nesc > m->escape * (double)e->n;
+    return !m->built || 2 * force_drift_bound(m) > m->skin;
 }
 
 static int interact(psim_sim *e, void *p, psim_error *err)
 {
     fmodel *m = p;
     int rc = 0;
-    if (!m->naive && lists_stale(e, m) && force_build_lists(e, m)) {
+    if (!m->naive && lists_stale(m) && force_build_lists(e, m)) {
         psim_error_set(err, "out of memory for the neighbour lists of step %ld", e->step + 1);
         return -1;
     }
@@ -208,15 +202,13 @@ const psim_model psim_model_force = {
     .summary = "Berkeley CS267 HW2: short-range repulsion within a cutoff, O(n)",
     .phases = {"nlist", "force", "integrate", NULL},
     .counters = {"pair_tests", "interactions", "rebuilds", "list_entries", "tasks",
-                 "sorted_sums", "escaped", NULL},
+                 "sorted_sums", NULL},
     .output = {.period = CS267_SAVEFREQ},
     .output_digits = -1,
     .options = {{"dt", "time step (CS267 scenes: 0.0005; scene files: 1, a step)", 0, 1e300},
                 {"mass", "particle mass (CS267: 0.01)", 1e-300, 1e300},
                 {"cutoff", "interaction cutoff (CS267: 0.01; scene files: 2r)", 1e-300, 1e300},
                 {"skin", "neighbour list skin, in cutoffs (default 2)", 0, 1e6},
-                {"escape", "fraction of particles that may outrun the lists before a rebuild "
-                           "(default 0.01; 0: rebuild when one does)", 0, 1},
                 {"naive", "1: the course's O(n^2) loops (for tests)", 0, 1},
                 {"stats", "1: the older edition's absmin/absavg (--force-stats)", 0, 1},
                 {NULL, NULL, 0, 0}},

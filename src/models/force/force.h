@@ -16,7 +16,6 @@
 #ifndef PSIM_FORCE_H
 #define PSIM_FORCE_H
 #include <float.h>
-#include <math.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -24,8 +23,7 @@
 #include "law.h"
 
 enum { FPHASE_NLIST = PSIM_PHASE_MODEL, FPHASE_FORCE, FPHASE_INTEGRATE };
-enum { FC_PAIR_TESTS, FC_INTERACTIONS, FC_REBUILDS, FC_LIST_ENTRIES, FC_TASKS, FC_SORTED,
-       FC_ESCAPED };
+enum { FC_PAIR_TESTS, FC_INTERACTIONS, FC_REBUILDS, FC_LIST_ENTRIES, FC_TASKS, FC_SORTED };
 
 /* The course's constants (common.h). */
 #define CS267_DENSITY 0.0005
@@ -81,10 +79,7 @@ typedef struct ftile {
     uint32_t *cnt;          /* n: forces on each particle this step */
     size_t acap;
     /* this step: */
-    uint32_t *escl;         /* its escaped particles since the build */
-    size_t nescl, esccap;
-    double d2max;           /* this step: largest squared displacement since
-                             * the build of its particles that have not escaped */
+    double v2max;           /* largest squared speed after the move */
     uint64_t tests, hits, sorted;
     double dmin, dsum;      /* --force-stats: nearest distance / cutoff, sum */
     uint64_t dn;
@@ -96,17 +91,8 @@ typedef struct fmodel {
     flaw law;
     int naive, stats;
     double skin;            /* list radius = cutoff + skin */
-    double escape;          /* fraction of the particles that may escape
-                             * before the lists are built again */
-    double dmax;            /* largest displacement since the build of a
-                             * particle that has not escaped */
-    double *x0, *y0;        /* n: positions at the build (store places);
-                             * x0 NaN: escaped since */
-    size_t cap0;
-    const psim_grid *grid;  /* the engine's, of the build */
-    size_t nesc;            /* escaped particles */
-    struct fesc *eg;        /* the escaped, by their cell now */
-    size_t egcap;
+    double drift;           /* bound on any displacement since the build */
+    long since_build;       /* steps since the build */
     int shells;             /* this step: the shells to test */
     int built;
     ftile *tiles;
@@ -117,37 +103,12 @@ typedef struct fmodel {
     long lost_step;         /* first step a particle left the box (0: none) */
 } fmodel;
 
-/* Whether the particle at store place i has escaped since the build. */
-static inline int force_escaped(const fmodel *m, uint32_t i)
-{
-    return isnan(m->x0[i]);
-}
-
-/* An escaped particle and its cell now (row-major grid index). */
-typedef struct fesc {
-    uint32_t key, place;
-} fesc;
-
-/* The rounding of a displacement or distance computed from positions in
- * [0, size]: a few ulps of the box. */
-static inline double force_margin(const fmodel *m)
-{
-    return 16 * DBL_EPSILON * m->law.size;
-}
-
-/* A bound on how far a particle that has not escaped has moved since
- * the lists were built. */
+/* A bound on how far any particle has moved since the lists were built:
+ * the sum over the steps of the largest speed times dt, plus a few ulps
+ * of the box a step (the rounding of the positions), plus one step's. */
 static inline double force_drift_bound(const fmodel *m)
 {
-    return m->dmax + 2 * force_margin(m);
-}
-
-/* A particle escapes when it has moved more than this since the build:
- * two that have not escaped have closed in by less than the skin, so the
- * lists hold every pair of them within the cutoff. */
-static inline double force_escape_distance(const fmodel *m)
-{
-    return m->skin / 2 - 4 * force_margin(m);
+    return m->drift + (double)(m->since_build + 1) * 8 * DBL_EPSILON * m->law.size;
 }
 
 /* nlist.c */

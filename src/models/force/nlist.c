@@ -25,15 +25,6 @@
 static int plan_tiles(psim_sim *e, fmodel *m)
 {
     const psim_grid *g = &e->grid;
-    size_t n = e->st.n;
-    if (n > m->cap0) {
-        size_t c2 = m->cap0;
-        if (psim_reserve((void **)&m->y0, &c2, n, sizeof *m->y0) ||
-            psim_reserve((void **)&m->x0, &m->cap0, n, sizeof *m->x0))
-            return -1;
-    }
-    memcpy(m->x0, e->st.x, n * sizeof *m->x0);
-    memcpy(m->y0, e->st.y, n * sizeof *m->y0);
     if (g->ntiles > m->cap_tiles) {
         ftile *t = realloc(m->tiles, g->ntiles * sizeof *t);
         if (!t)
@@ -47,7 +38,6 @@ static int plan_tiles(psim_sim *e, fmodel *m)
         ftile *ft = &m->tiles[t];
         ft->first = g->cellstart[g->tile_cell0[t]];
         ft->n = g->cellstart[g->tile_cell0[t + 1]] - ft->first;
-        ft->nescl = 0;
         if (ft->n > ft->acap) {
             size_t cap = ft->n + ft->n / 2 + 16;
             psim_free(ft->ax), psim_free(ft->ay), psim_free(ft->cnt);
@@ -224,22 +214,16 @@ static int list_cell(const psim_store *s, ftile *t, int lx, int ly, const double
     size_t own = row_at(t, ly) + (size_t)lx * SLOTS, up = row_at(t, ly + 1) + (size_t)(lx - 1) * SLOTS;
     const double *ox = t->rx + own, *oy = t->ry + own, *ux = t->rx + up, *uy = t->ry + up;
     const uint32_t *oj = t->rj + own, *uj = t->rj + up;
-    const double reach2 = thr[FORCE_BUCKETS - 1], t0 = thr[0], t1 = thr[1], t2 = thr[2];
-    fpair *wp[FORCE_BUCKETS];   /* write cursors, in registers or L1 */
-    for (int b = 0; b < FORCE_BUCKETS; b++)
-        wp[b] = t->pair[b] + t->len[b];
+    const double reach2 = thr[FORCE_BUCKETS - 1];
     for (uint32_t k = 0; k < ns; k++) {
         double r2[5 * SLOTS], px = ox[k], py = oy[k];
         unsigned m = near_mask(ox, oy, 2 * SLOTS, px, py, reach2, r2) & ~((2u << k) - 1);
         m |= near_mask(ux, uy, 3 * SLOTS, px, py, reach2, r2 + 2 * SLOTS) << (2 * SLOTS);
         for (; m; m &= m - 1) {
             int q = __builtin_ctz(m);
-            int b = (r2[q] > t0) + (r2[q] > t1) + (r2[q] > t2);
-            *wp[b]++ = (fpair){w[0] + k, q < 2 * SLOTS ? oj[q] : uj[q - 2 * SLOTS]};
+            file_pair(t, w[0] + k, q < 2 * SLOTS ? oj[q] : uj[q - 2 * SLOTS], r2[q], thr);
         }
     }
-    for (int b = 0; b < FORCE_BUCKETS; b++)
-        t->len[b] = (size_t)(wp[b] - t->pair[b]);
     for (uint32_t o = w[0] + SLOTS; o < w[1]; o++)
         if (list_extra(s, t, lx, ly, o, thr))
             return -1;
@@ -306,9 +290,8 @@ int force_build_lists(psim_sim *e, fmodel *m)
     e->stats.counter[FC_REBUILDS]++;
     e->stats.counter[FC_TASKS] += m->ntiles;
     e->stats.phase_s[FPHASE_NLIST] += psim_now() - t0;
-    m->dmax = 0;
-    m->nesc = 0;
-    m->grid = &e->grid;
+    m->drift = 0;
+    m->since_build = 0;
     m->built = 1;
     return oom ? -1 : 0;
 }

@@ -44,7 +44,7 @@ static inline void pair_stats(const flaw *k, ftile *t, double px, double py, dou
 
 static void tile_reset(ftile *t)
 {
-    t->d2max = 0;
+    t->v2max = 0;
     t->tests = t->hits = t->sorted = 0;
     t->dmin = 1.0;
     t->dsum = 0;
@@ -60,6 +60,9 @@ static inline void move_one(const flaw *k, psim_store *s, ftile *t, uint32_t i, 
     t->lost |= flaw_move(k, s->x[i], s->y[i], &vx, &vy, ax, ay, &s->x2[i], &s->y2[i]);
     s->vx[i] = vx;
     s->vy[i] = vy;
+    double v2 = vx * vx + vy * vy;
+    if (v2 > t->v2max)
+        t->v2max = v2;
 }
 
 /* The force of one interacting pair on one of its particles, to the
@@ -92,65 +95,6 @@ static void pair_forces(const fmodel *m, const psim_store *s, ftile *t, fpair p)
     }
 }
 
-/* The first escaped particle in m->eg whose cell is key or later. */
-static size_t eg_lower(const fmodel *m, uint32_t key)
-{
-    size_t lo = 0, hi = m->nesc;
-    while (lo < hi) {
-        size_t mid = (lo + hi) / 2;
-        if (m->eg[mid].key < key)
-            lo = mid + 1;
-        else
-            hi = mid;
-    }
-    return lo;
-}
-
-/* Test the pair of escaped particle e with j; forces if within the cutoff. */
-static inline void escaped_pair(const fmodel *m, const psim_store *s, ftile *t, uint32_t e,
-                                uint32_t j)
-{
-    double dx = s->x[j] - s->x[e], dy = s->y[j] - s->y[e];
-    t->tests++;
-    if (!(dx * dx + dy * dy > m->law.cutoff2))
-        pair_forces(m, s, t, (fpair){e, j});
-}
-
-/* The pairs of escaped particle e (not in the lists any more): with the
- * particles that have not escaped, in the build's 3 x 3 cells around
- * where e is now (they have moved less than half the skin since, and the
- * cells are wider than cutoff + skin), and with the escaped ones of the
- * same cells that come after e in the store (m->eg: each pair once). */
-static void escaped_pairs(const fmodel *m, const psim_store *s, ftile *t, uint32_t e)
-{
-    const psim_grid *g = m->grid;
-    int cx = psim_grid_coord(g, s->x[e], g->x0), cy = psim_grid_coord(g, s->y[e], g->y0);
-    int xa = cx > 0 ? cx - 1 : 0, xb = cx + 1 < g->G ? cx + 1 : g->G - 1;
-    int lx = cx - t->wx0, ly = cy - t->wy0;
-    int inwin = lx >= 1 && ly >= 1 && lx + 1 < t->W && ly + 1 < t->W;
-    for (int y = cy > 0 ? cy - 1 : 0; y <= cy + 1 && y < g->G; y++) {
-        uint32_t row = (uint32_t)y * (uint32_t)g->G;
-        for (int x = xa; x <= xb; x++) {
-            uint32_t j0, j1;
-            if (inwin) {   /* the tile's window: a small table, not the grid's */
-                const uint32_t *w = t->win + 2 * ((size_t)(y - t->wy0) * (size_t)t->W +
-                                                  (size_t)(x - t->wx0));
-                j0 = w[0], j1 = w[1];
-            } else {
-                uint32_t c = g->rank_of_xy[row + (uint32_t)x];
-                j0 = g->cellstart[c], j1 = g->cellstart[c + 1];
-            }
-            for (uint32_t j = j0; j < j1; j++)
-                if (!force_escaped(m, j))
-                    escaped_pair(m, s, t, e, j);
-        }
-        for (size_t k = eg_lower(m, row + (uint32_t)xa);
-             k < m->nesc && m->eg[k].key <= row + (uint32_t)xb; k++)
-            if (m->eg[k].place > e)
-                escaped_pair(m, s, t, e, m->eg[k].place);
-    }
-}
-
 /* Round 1: the tile's pairs in the shells that may hold pairs within the
  * cutoff (m->shells). */
 static void tile_force(const fmodel *m, psim_store *s, ftile *t)
@@ -172,15 +116,9 @@ static void tile_force(const fmodel *m, psim_store *s, ftile *t)
             nh += !(dx * dx + dy * dy > c2);   /* NaN interacts, as in the course */
         }
         t->tests += len;
-        for (size_t h = 0; h < nh; h++) {
-            fpair q = p[t->hit[h]];
-            if (m->nesc && (force_escaped(m, q.i) || force_escaped(m, q.j)))
-                continue;   /* escaped_pairs finds it */
-            pair_forces(m, s, t, q);
-        }
+        for (size_t h = 0; h < nh; h++)
+            pair_forces(m, s, t, p[t->hit[h]]);
     }
-    for (size_t r = 0; r < t->nescl; r++)
-        escaped_pairs(m, s, t, t->escl[r]);
 }
 
 static int by_owner_partner(const void *a, const void *b)
@@ -222,107 +160,67 @@ static int tile_sum(ftile *t)
     return 0;
 }
 
-/* Particles are moved in chunks of MOVE_CHUNK: the straight part in a
- * loop the compiler vectorises, then the reflections (rare) in a chunk
- * where one crossed a wall, then the displacements since the build. */
+/* The course's move of particles [q0, q1) of the tile, in place: the
+ * straight part in a loop the compiler vectorises, the reflections
+ * (rare: a particle that crossed a wall) after, in each chunk that has
+ * one.  Returns whether one left the box for good. */
 #define MOVE_CHUNK 64
 
-/* Whether one of particles [q0, q1) is outside [0, size]^2 (NaN left
- * out, as the course's comparisons leave it). */
-static int chunk_out(const double *x, const double *y, uint32_t q0, uint32_t q1, double size)
+/* Over particles [q0, q1): the largest squared speed (into *v2max, a
+ * bound for the lists), and whether one is outside [0, size]^2 (NaN
+ * left out of both, as the course's comparisons leave it). */
+static int chunk_extent(const double *x, const double *y, const double *vx, const double *vy,
+                        uint32_t q0, uint32_t q1, double size, double *v2max)
 {
     uint32_t q = q0;
-    double lo = 0, hi = size;
+    double m = *v2max, lo = 0, hi = size;
 #ifdef __SSE2__
-    __m128d mlo = _mm_set1_pd(lo), mhi = _mm_set1_pd(hi);
+    __m128d mm = _mm_set1_pd(m), mlo = _mm_set1_pd(lo), mhi = _mm_set1_pd(hi);
     for (; q + 2 <= q1; q += 2) {
+        __m128d ux = _mm_loadu_pd(vx + q), uy = _mm_loadu_pd(vy + q);
         __m128d px = _mm_loadu_pd(x + q), py = _mm_loadu_pd(y + q);
-        mlo = _mm_min_pd(px, _mm_min_pd(py, mlo));   /* NaN: the second operand */
+        __m128d v2 = _mm_add_pd(_mm_mul_pd(ux, ux), _mm_mul_pd(uy, uy));
+        mm = _mm_max_pd(v2, mm);   /* the second operand when the first is NaN */
+        mlo = _mm_min_pd(px, _mm_min_pd(py, mlo));
         mhi = _mm_max_pd(px, _mm_max_pd(py, mhi));
     }
-    double l[2], h[2];
-    _mm_storeu_pd(l, mlo), _mm_storeu_pd(h, mhi);
+    double l[2], h[2], v[2];
+    _mm_storeu_pd(v, mm), _mm_storeu_pd(l, mlo), _mm_storeu_pd(h, mhi);
+    m = v[0] > v[1] ? v[0] : v[1];
     lo = l[0] < l[1] ? l[0] : l[1];
     hi = h[0] > h[1] ? h[0] : h[1];
 #endif
     int out = lo < 0 || hi > size;
-    for (; q < q1; q++)
+    for (; q < q1; q++) {
+        double v2 = vx[q] * vx[q] + vy[q] * vy[q];
+        m = v2 > m ? v2 : m;
         out |= (x[q] < 0) | (x[q] > size) | (y[q] < 0) | (y[q] > size);
+    }
+    *v2max = m;
     return out;
 }
 
-/* The largest squared displacement since the build over particles
- * [q0, q1) that have not escaped (x0 NaN: left out, as NaN positions). */
-static double chunk_disp(const double *x, const double *y, const double *x0, const double *y0,
-                         uint32_t q0, uint32_t q1)
+/* The course's move of particles [q0, q1) of the tile, in place: the
+ * straight part in a loop the compiler vectorises, the reflections (rare:
+ * a particle that crossed a wall) after, in a chunk that has one.
+ * Returns whether one left the box for good. */
+#define MOVE_CHUNK 64
+static int move_chunk(const flaw *law, const ftile *t, double *restrict x,
+                      double *restrict y, double *restrict vx, double *restrict vy, uint32_t q0,
+                      uint32_t q1, double *v2max)
 {
-    uint32_t q = q0;
-    double m = 0;
-#ifdef __SSE2__
-    __m128d mm = _mm_setzero_pd();
-    for (; q + 2 <= q1; q += 2) {
-        __m128d dx = _mm_sub_pd(_mm_loadu_pd(x + q), _mm_loadu_pd(x0 + q));
-        __m128d dy = _mm_sub_pd(_mm_loadu_pd(y + q), _mm_loadu_pd(y0 + q));
-        mm = _mm_max_pd(_mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy)), mm);
-    }
-    double v[2];
-    _mm_storeu_pd(v, mm);
-    m = v[0] > v[1] ? v[0] : v[1];
-#endif
-    for (; q < q1; q++) {
-        double dx = x[q] - x0[q], dy = y[q] - y0[q], d2 = dx * dx + dy * dy;
-        m = d2 > m ? d2 : m;
-    }
-    return m;
-}
-
-/* Particles [q0, q1) of tile t that moved more than h (h2 = h^2) since
- * the build escape: marked (x0 NaN) and listed in the tile's escaped.
- * Returns the largest squared displacement of the others. */
-static double chunk_escape(const fmodel *m, ftile *t, const double *x, const double *y,
-                           uint32_t q0, uint32_t q1, double h2)
-{
-    double *x0 = m->x0 + t->first, *y0 = m->y0 + t->first, d2max = 0;
-    for (uint32_t q = q0; q < q1; q++) {
-        double dx = x[q] - x0[q], dy = y[q] - y0[q], d2 = dx * dx + dy * dy;
-        if (!(d2 > h2)) {
-            d2max = d2 > d2max ? d2 : d2max;
-            continue;
-        }
-        if (t->nescl == t->esccap &&
-            psim_reserve((void **)&t->escl, &t->esccap, t->nescl + 1, sizeof *t->escl)) {
-            t->oom = 1;
-            return d2max;
-        }
-        t->escl[t->nescl++] = t->first + q;
-        x0[q] = NAN;
-    }
-    return d2max;
-}
-
-/* The course's move of particles [q0, q1) of tile t, in place (x .. vy
- * start at the tile's first); the largest squared displacement of those
- * that have not escaped to *d2max.  Returns whether one left the box for
- * good. */
-static int move_chunk(const fmodel *m, ftile *t, double *restrict x, double *restrict y,
-                      double *restrict vx, double *restrict vy, uint32_t q0, uint32_t q1,
-                      double h2, double *d2max)
-{
-    const flaw kl = m->law, *k = &kl;   /* a copy: no store can change it */
+    const flaw kl = *law, *k = &kl;   /* a copy: no store can change it */
     const double *restrict ax = t->ax, *restrict ay = t->ay;
     for (uint32_t q = q0; q < q1; q++) {
         double ux = flaw_kick(k, vx[q], ax[q]), uy = flaw_kick(k, vy[q], ay[q]);
         vx[q] = ux, vy[q] = uy;
         x[q] = flaw_drift(k, x[q], ux), y[q] = flaw_drift(k, y[q], uy);
     }
+    if (!chunk_extent(x, y, vx, vy, q0, q1, k->size, v2max))
+        return 0;
     int lost = 0;
-    if (chunk_out(x, y, q0, q1, k->size))
-        for (uint32_t q = q0; q < q1; q++)
-            lost |= flaw_bounce(k->size, &x[q], &vx[q]) | flaw_bounce(k->size, &y[q], &vy[q]);
-    double d2 = chunk_disp(x, y, m->x0 + t->first, m->y0 + t->first, q0, q1);
-    if (d2 > h2)
-        d2 = chunk_escape(m, t, x, y, q0, q1, h2);
-    *d2max = d2 > *d2max ? d2 : *d2max;
+    for (uint32_t q = q0; q < q1; q++)
+        lost |= flaw_bounce(k->size, &x[q], &vx[q]) | flaw_bounce(k->size, &y[q], &vy[q]);
     return lost;
 }
 
@@ -335,18 +233,17 @@ static void tile_integrate(const fmodel *m, psim_store *s, ftile *t)
         return;
     }
     uint32_t f = t->first;
-    double *x = s->x + f, *y = s->y + f, *vx = s->vx + f, *vy = s->vy + f, d2max = 0;
-    double h = force_escape_distance(m), h2 = h * h;
+    double *x = s->x + f, *y = s->y + f, *vx = s->vx + f, *vy = s->vy + f, v2max = 0;
     int lost = 0;
     for (uint32_t q = 0; q < t->n; q += MOVE_CHUNK)
-        lost |= move_chunk(m, t, x, y, vx, vy, q, t->n - q < MOVE_CHUNK ? t->n : q + MOVE_CHUNK,
-                           h2, &d2max);
+        lost |= move_chunk(&m->law, t, x, y, vx, vy, q,
+                           t->n - q < MOVE_CHUNK ? t->n : q + MOVE_CHUNK, &v2max);
     for (size_t r = 0; r < t->nrec; r++) {   /* zero again for the next step */
         uint32_t q = t->rec[r].owner - f;
         t->ax[q] = t->ay[q] = 0;
         t->cnt[q] = 0;
     }
-    t->d2max = d2max;
+    t->v2max = v2max;
     t->lost = lost;
 }
 
@@ -399,15 +296,13 @@ static void block_naive(const fmodel *m, psim_store *s, ftile *t)
  * -2 if a tile ran out of memory. */
 static int finish(psim_sim *e, fmodel *m)
 {
-    double d2max = 0, dmin = 1.0, dsum = 0;
-    size_t nesc = 0;
+    double v2max = 0, dmin = 1.0, dsum = 0;
     uint64_t tests = 0, hits = 0, dn = 0, sorted = 0;
     int lost = 0, oom = 0;
     for (uint32_t t = 0; t < m->ntiles; t++) {
         const ftile *ft = &m->tiles[t];
         oom |= ft->oom;
-        d2max = fmax(d2max, ft->d2max);
-        nesc += ft->nescl;
+        v2max = fmax(v2max, ft->v2max);
         tests += ft->tests;
         hits += ft->hits;
         sorted += ft->sorted;
@@ -419,8 +314,8 @@ static int finish(psim_sim *e, fmodel *m)
     e->stats.counter[FC_PAIR_TESTS] += tests;
     e->stats.counter[FC_INTERACTIONS] += hits;
     e->stats.counter[FC_SORTED] += sorted;
-    m->dmax = sqrt(d2max);
-    m->nesc = nesc;
+    m->drift += sqrt(v2max) * m->law.dt;
+    m->since_build++;
     if (m->stats) {            /* the course's per-step bookkeeping */
         if (dn) {
             m->absavg += dsum / (double)dn;
@@ -463,41 +358,11 @@ static void run_tiles(const fmodel *m, psim_store *s, psim_thread_stats *ts, til
 #pragma omp taskwait
 }
 
-static int by_key_place(const void *a, const void *b)
-{
-    const fesc *p = a, *q = b;
-    if (p->key != q->key)
-        return p->key < q->key ? -1 : 1;
-    return (p->place > q->place) - (p->place < q->place);
-}
-
-/* The escaped particles sorted by the cells (of the build's grid) they
- * are in now, for escaped_pairs. */
-static int sort_escaped(psim_sim *e, fmodel *m)
-{
-    if (psim_reserve((void **)&m->eg, &m->egcap, m->nesc, sizeof *m->eg))
-        return -1;
-    const psim_grid *g = m->grid;
-    size_t k = 0;
-    for (uint32_t t = 0; t < m->ntiles; t++)
-        for (size_t r = 0; r < m->tiles[t].nescl; r++) {
-            uint32_t i = m->tiles[t].escl[r];
-            uint32_t cx = (uint32_t)psim_grid_coord(g, e->st.x[i], g->x0);
-            uint32_t cy = (uint32_t)psim_grid_coord(g, e->st.y[i], g->y0);
-            m->eg[k++] = (fesc){cy * (uint32_t)g->G + cx, i};
-        }
-    qsort(m->eg, k, sizeof *m->eg, by_key_place);
-    e->stats.counter[FC_ESCAPED] += k;
-    return 0;
-}
-
 int force_step_lists(psim_sim *e, fmodel *m)
 {
     psim_store *s = &e->st;
     psim_thread_stats *ts = e->tstats;
     int oom = 0;
-    if (m->nesc && sort_escaped(e, m))
-        return -2;
     m->shells = active_shells(m);
     double t0 = psim_now(), t1 = t0;
 #pragma omp parallel num_threads(e->threads)
