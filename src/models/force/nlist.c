@@ -89,6 +89,7 @@ static int plan_window(const psim_sim *e, ftile *t, uint32_t tile)
  * "extras", a few per cent of the particles at the course's density) are
  * listed one by one (list_extra). */
 #define SLOTS 4
+_Static_assert(FORCE_BUCKETS == 4, "list_cell files pairs by three thresholds");
 /* Position of an empty slot: farther than any reach from any particle. */
 #define FAR 1e300
 
@@ -214,16 +215,22 @@ static int list_cell(const psim_store *s, ftile *t, int lx, int ly, const double
     size_t own = row_at(t, ly) + (size_t)lx * SLOTS, up = row_at(t, ly + 1) + (size_t)(lx - 1) * SLOTS;
     const double *ox = t->rx + own, *oy = t->ry + own, *ux = t->rx + up, *uy = t->ry + up;
     const uint32_t *oj = t->rj + own, *uj = t->rj + up;
-    const double reach2 = thr[FORCE_BUCKETS - 1];
+    const double reach2 = thr[FORCE_BUCKETS - 1], t0 = thr[0], t1 = thr[1], t2 = thr[2];
+    fpair *wp[FORCE_BUCKETS];   /* write cursors, in registers or L1 */
+    for (int b = 0; b < FORCE_BUCKETS; b++)
+        wp[b] = t->pair[b] + t->len[b];
     for (uint32_t k = 0; k < ns; k++) {
         double r2[5 * SLOTS], px = ox[k], py = oy[k];
         unsigned m = near_mask(ox, oy, 2 * SLOTS, px, py, reach2, r2) & ~((2u << k) - 1);
         m |= near_mask(ux, uy, 3 * SLOTS, px, py, reach2, r2 + 2 * SLOTS) << (2 * SLOTS);
         for (; m; m &= m - 1) {
             int q = __builtin_ctz(m);
-            file_pair(t, w[0] + k, q < 2 * SLOTS ? oj[q] : uj[q - 2 * SLOTS], r2[q], thr);
+            int b = (r2[q] > t0) + (r2[q] > t1) + (r2[q] > t2);
+            *wp[b]++ = (fpair){w[0] + k, q < 2 * SLOTS ? oj[q] : uj[q - 2 * SLOTS]};
         }
     }
+    for (int b = 0; b < FORCE_BUCKETS; b++)
+        t->len[b] = (size_t)(wp[b] - t->pair[b]);
     for (uint32_t o = w[0] + SLOTS; o < w[1]; o++)
         if (list_extra(s, t, lx, ly, o, thr))
             return -1;
