@@ -46,6 +46,8 @@ typedef struct psim_scene {
     psim_scene_format format;
     int print;      /* 2019 format: 1 for "print" (state after every step) */
     int generated;  /* 2019 format: the particle lines were absent */
+    char *source;   /* the file it was read from (NULL: made, not read) */
+    long *line;     /* n: the line of each particle in it (NULL likewise) */
 } psim_scene;
 
 /* Allocate the arrays of a scene of n particles (zeroed). */

@@ -197,6 +197,8 @@ static int read_particle(reader *rd, psim_scene *sc, unsigned char *seen,
         return -1;
     }
     seen[id] = 1;
+    if (sc->line)
+        sc->line[id] = rd->line;
     sc->x[id] = v[0];
     sc->y[id] = v[1];
     sc->vx[id] = v[2];
@@ -233,7 +235,9 @@ int psim_scene_read_stream(FILE *f, const char *name, psim_scene *sc,
     if (read_header(&rd, sc, err) || read_mode(&rd, sc))
         goto done;
     seen = calloc((size_t)sc->n + 1, 1);
-    if (!seen) {
+    sc->line = calloc((size_t)sc->n + 1, sizeof *sc->line);
+    sc->source = strdup(name);
+    if (!seen || !sc->line || !sc->source) {
         psim_error_set(err, "%s: out of memory for %ld particles", name, sc->n);
         goto done;
     }
@@ -293,6 +297,8 @@ int psim_scene_alloc(psim_scene *sc, long n, psim_error *err)
 {
     size_t b = (size_t)(n > 0 ? n : 1) * sizeof(double);
     sc->n = n;
+    sc->source = NULL;
+    sc->line = NULL;
     sc->x = calloc(1, b);
     sc->y = calloc(1, b);
     sc->vx = calloc(1, b);
@@ -311,5 +317,9 @@ void psim_scene_free(psim_scene *sc)
     free(sc->y);
     free(sc->vx);
     free(sc->vy);
+    free(sc->source);
+    free(sc->line);
     sc->x = sc->y = sc->vx = sc->vy = NULL;
+    sc->source = NULL;
+    sc->line = NULL;
 }

@@ -8,11 +8,13 @@
 extern const psim_model psim_model_discrete;
 extern const psim_model psim_model_ccd;
 extern const psim_model psim_model_force;
+extern const psim_model psim_model_event;
 
 static const psim_model *const models[] = {
     &psim_model_discrete,   /* CS3210 AY2024/25: move, then collisions to a fixpoint */
     &psim_model_ccd,        /* CS3210 AY2019/20: time-of-impact collisions */
     &psim_model_force,      /* Berkeley CS267 HW2: short-range repulsion */
+    &psim_model_event,      /* exact event-driven hard disks */
 };
 
 #define NMODELS ((int)(sizeof models / sizeof models[0]))

@@ -1,0 +1,180 @@
+/* The event model behind the model interface: the disks' states and
+ * cells, the start (no overlaps allowed), a step as the events up to the
+ * next whole time, and the state at that time written to the store. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "event.h"
+#include "../../engine/mem.h"
+#include "../../engine/timer.h"
+
+static void destroy(void *p)
+{
+    emodel *m = p;
+    if (!m)
+        return;
+    psim_free(m->x), psim_free(m->y), psim_free(m->vx), psim_free(m->vy), psim_free(m->t);
+    psim_free(m->cnt), psim_free(m->last), psim_free(m->cx), psim_free(m->cy);
+    psim_free(m->head), psim_free(m->next), psim_free(m->prev);
+    ecal_free(&m->cal);
+    free(m);
+}
+
+/* Cells of side L / G >= 2r (a little more, against round-off), no more
+ * than about 2 per disk. */
+static int plan_cells(emodel *m)
+{
+    double per = m->L / (2 * m->r * (1 + 1e-9));
+    double most = 2 * sqrt((double)m->n) + 1;
+    double g = per < most ? per : most;
+    m->G = g >= 1 ? (int)g : 1;
+    m->h = m->L / m->G;
+    return 0;
+}
+
+static int cell_of(const emodel *m, double p)
+{
+    int c = (int)(p / m->h);
+    return c < 0 ? 0 : c >= m->G ? m->G - 1 : c;
+}
+
+/* The first overlapping pair (lowest i, then lowest j), or -1. */
+static long first_overlap(const emodel *m, long *jout)
+{
+    for (long i = 0; i < m->n; i++) {
+        long best = -1;
+        for (int y = m->cy[i] - 1; y <= m->cy[i] + 1; y++)
+            for (int x = m->cx[i] - 1; x <= m->cx[i] + 1; x++) {
+                if (x < 0 || y < 0 || x >= m->G || y >= m->G)
+                    continue;
+                for (int32_t j = m->head[y * m->G + x]; j >= 0; j = m->next[j]) {
+                    double dx = m->x[j] - m->x[i], dy = m->y[j] - m->y[i];
+                    if (j > i && dx * dx + dy * dy < m->sigma2 && (best < 0 || j < best))
+                        best = j;
+                }
+            }
+        if (best >= 0) {
+            *jout = best;
+            return i;
+        }
+    }
+    return -1;
+}
+
+static int alloc_state(emodel *m)
+{
+    size_t n = (size_t)m->n, d = n * sizeof(double), w = n * sizeof(int32_t);
+    size_t cells = (size_t)m->G * (size_t)m->G;
+    m->x = psim_alloc(d), m->y = psim_alloc(d), m->vx = psim_alloc(d), m->vy = psim_alloc(d);
+    m->t = psim_calloc(d);
+    m->cnt = psim_calloc(w), m->last = psim_alloc(w), m->cx = psim_alloc(w);
+    m->cy = psim_alloc(w), m->next = psim_alloc(w), m->prev = psim_alloc(w);
+    m->head = psim_alloc(cells * sizeof(int32_t));
+    if (!m->x || !m->y || !m->vx || !m->vy || !m->t || !m->cnt || !m->last || !m->cx ||
+        !m->cy || !m->next || !m->prev || !m->head)
+        return -1;
+    memset(m->head, 0xff, cells * sizeof(int32_t));   /* -1: empty */
+    memset(m->last, 0xff, w);
+    return 0;
+}
+
+static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
+{
+    emodel *m = calloc(1, sizeof *m);
+    if (!m)
+        goto oom;
+    m->n = sc->n;
+    m->L = sc->L;
+    m->r = sc->r;
+    m->sigma2 = (2 * sc->r) * (2 * sc->r);
+    m->lo = sc->r;
+    m->hi = sc->L - sc->r;
+    if (plan_cells(m) || alloc_state(m))
+        goto oom;
+    for (long i = 0; i < m->n; i++) {
+        m->x[i] = sc->x[i], m->y[i] = sc->y[i];
+        m->vx[i] = sc->vx[i], m->vy[i] = sc->vy[i];
+        m->cx[i] = cell_of(m, m->x[i]);
+        m->cy[i] = cell_of(m, m->y[i]);
+        event_cell_insert(m, (int32_t)i);
+    }
+    long j = -1, i = first_overlap(m, &j);
+    if (i >= 0) {
+        double d = hypot(m->x[j] - m->x[i], m->y[j] - m->y[i]);
+        char where[64] = "";
+        if (sc->line)
+            snprintf(where, sizeof where, " (line %ld)", sc->line[j]);
+        psim_error_set(err, "%s%s%.0ld%sdisk %ld overlaps disk %ld%s: centres %.17g apart, "
+                            "less than 2r = %g (the event model needs a scene without "
+                            "overlaps: psim gen --place nonoverlap or lattice)",
+                       sc->source ? sc->source : "", sc->source ? ":" : "",
+                       sc->line ? sc->line[i] : 0L, sc->line ? ": " : "", i, j, where, d,
+                       2 * m->r);
+        destroy(m);
+        return NULL;
+    }
+    if (event_predict_all(e, m))
+        goto oom;
+    return m;
+oom:
+    destroy(m);
+    psim_error_set(err, "out of memory for the event model");
+    return NULL;
+}
+
+/* The state at time T, to the store (the disks stay at their own times). */
+static void sync_store(psim_sim *e, const emodel *m, double T)
+{
+    psim_store *s = &e->st;
+    for (size_t k = 0; k < s->n; k++) {
+        int32_t i = s->id[k];
+        double dt = T - m->t[i];
+        s->x[k] = m->x[i] + m->vx[i] * dt;
+        s->y[k] = m->y[i] + m->vy[i] * dt;
+        s->vx[k] = m->vx[i];
+        s->vy[k] = m->vy[i];
+    }
+}
+
+static int interact(psim_sim *e, void *p, psim_error *err)
+{
+    emodel *m = p;
+    double T = (double)(e->step + 1), t0 = psim_now();
+    int rc = event_run_until(e, m, T);
+    double t1 = psim_now();
+    e->stats.phase_s[EPHASE_EVENTS] += t1 - t0;
+    if (rc) {
+        psim_error_set(err, "out of memory for the event calendar at step %ld", e->step + 1);
+        return -1;
+    }
+    sync_store(e, m, T);
+    e->stats.phase_s[EPHASE_SYNC] += psim_now() - t1;
+    return 0;
+}
+
+static void step_summary(FILE *f, const psim_stats *st)
+{
+    double steps = st->steps > 0 ? (double)st->steps : 1.0;
+    const uint64_t *c = st->counter;
+    fprintf(f, "  per step: %.1f collisions, %.1f wall reflections, %.1f cell crossings; "
+               "%.1f predictions, %.1f stale events\n",
+            (double)c[EC_COLLISIONS] / steps, (double)c[EC_WALLS] / steps,
+            (double)c[EC_CROSSINGS] / steps, (double)c[EC_PREDICTIONS] / steps,
+            (double)c[EC_STALE] / steps);
+}
+
+const psim_model psim_model_event = {
+    .name = "event",
+    .summary = "exact event-driven hard disks: the truth for accuracy reports",
+    .phases = {"events", "sync", NULL},
+    .counters = {"collisions", "wall_hits", "cell_crossings", "stale_events", "predictions",
+                 NULL},
+    .output = {.final = 1},
+    .output_digits = -1,
+    .sorts_itself = 1,
+    .create = create,
+    .interact = interact,
+    .step_summary = step_summary,
+    .destroy = destroy,
+};

@@ -1,0 +1,53 @@
+/* The event model: exact event-driven dynamics of equal hard disks.
+ *
+ * Disks fly free between events; each disk's state is kept at its own
+ * time (the time of its last event) and brought forward only when an
+ * event involves it.  Events: disk-disk collisions at the contact time
+ * (elastic, equal masses), reflections off the walls x, y = r and L - r,
+ * and crossings of the cells of the model's grid (cells at least 2r wide,
+ * so a disk is tested only against the disks of the 3 x 3 cells around
+ * it).  The calendar (calendar.h) holds every prediction; a prediction
+ * goes stale when a path counter of its disks has changed since.
+ * One time unit is one step of the scene (velocities are per step), and
+ * the state is written to the store at every whole step, for output.
+ * The run is sequential: its results do not depend on the thread count. */
+#ifndef PSIM_EVENT_H
+#define PSIM_EVENT_H
+#include <stdint.h>
+
+#include "../../engine/engine.h"
+#include "calendar.h"
+
+enum { EPHASE_EVENTS = PSIM_PHASE_MODEL, EPHASE_SYNC };
+enum { EC_COLLISIONS, EC_WALLS, EC_CROSSINGS, EC_STALE, EC_PREDICTIONS };
+
+typedef struct emodel {
+    long n;
+    double L, r, sigma2;    /* box side, radius, (2r)^2 */
+    double lo, hi;          /* walls for centres: r and L - r */
+    int G;                  /* cells per side */
+    double h;               /* cell side L / G >= 2r */
+    double *x, *y, *vx, *vy, *t;   /* disk i at its own time t[i] */
+    uint32_t *cnt;          /* path changes of disk i (collisions, walls) */
+    int32_t *last;          /* its last collision partner (-1: none since) */
+    int32_t *cx, *cy;       /* its cell */
+    int32_t *head, *next, *prev;   /* the disks of each cell, as lists */
+    ecal cal;
+    double now;             /* time of the event being processed */
+    double virial;          /* sum over collisions of |dr . dv|: pressure */
+} emodel;
+
+/* predict.c: the times of the next events (now at the earliest; INFINITY
+ * when there is none). */
+double event_pair_time(const emodel *m, int32_t a, int32_t b);
+double event_wall_time(const emodel *m, int32_t a, int axis);
+double event_cell_time(const emodel *m, int32_t a, int axis);
+
+/* run.c */
+int event_predict_disk(psim_sim *e, emodel *m, int32_t a);
+int event_predict_all(psim_sim *e, emodel *m);
+int event_run_until(psim_sim *e, emodel *m, double T);
+void event_cell_insert(emodel *m, int32_t i);
+void event_cell_remove(emodel *m, int32_t i);
+
+#endif

@@ -1,0 +1,175 @@
+/* The event loop of the event model: predictions into the calendar, and
+ * the events taken from it in time order up to a given time. */
+#include <math.h>
+
+#include "event.h"
+
+void event_cell_insert(emodel *m, int32_t i)
+{
+    int32_t c = m->cy[i] * m->G + m->cx[i];
+    m->prev[i] = -1;
+    m->next[i] = m->head[c];
+    if (m->head[c] >= 0)
+        m->prev[m->head[c]] = i;
+    m->head[c] = i;
+}
+
+void event_cell_remove(emodel *m, int32_t i)
+{
+    int32_t c = m->cy[i] * m->G + m->cx[i];
+    if (m->prev[i] >= 0)
+        m->next[m->prev[i]] = m->next[i];
+    else
+        m->head[c] = m->next[i];
+    if (m->next[i] >= 0)
+        m->prev[m->next[i]] = m->prev[i];
+}
+
+static int push(psim_sim *e, emodel *m, double t, int32_t a, int32_t b)
+{
+    if (!(t < INFINITY))
+        return 0;
+    e->stats.counter[EC_PREDICTIONS]++;
+    return ecal_push(&m->cal, (eevent){t, a, b, m->cnt[a], b >= 0 ? m->cnt[b] : 0});
+}
+
+/* Collisions of disk a with the disks of cells x0..x1 (one row y). */
+static int predict_row(psim_sim *e, emodel *m, int32_t a, int y, int x0, int x1)
+{
+    if (y < 0 || y >= m->G)
+        return 0;
+    x0 = x0 < 0 ? 0 : x0;
+    x1 = x1 >= m->G ? m->G - 1 : x1;
+    for (int x = x0; x <= x1; x++)
+        for (int32_t b = m->head[y * m->G + x]; b >= 0; b = m->next[b])
+            if (b != a && push(e, m, event_pair_time(m, a, b), a, b))
+                return -1;
+    return 0;
+}
+
+/* Collisions of disk a with the disks of the 3 x 3 cells around it. */
+static int predict_pairs(psim_sim *e, emodel *m, int32_t a)
+{
+    for (int y = m->cy[a] - 1; y <= m->cy[a] + 1; y++)
+        if (predict_row(e, m, a, y, m->cx[a] - 1, m->cx[a] + 1))
+            return -1;
+    return 0;
+}
+
+/* Every next event of disk a (after its path changed). */
+int event_predict_disk(psim_sim *e, emodel *m, int32_t a)
+{
+    return push(e, m, event_wall_time(m, a, 0), a, EV_WALL_X) ||
+           push(e, m, event_wall_time(m, a, 1), a, EV_WALL_Y) ||
+           push(e, m, event_cell_time(m, a, 0), a, EV_CELL_X) ||
+           push(e, m, event_cell_time(m, a, 1), a, EV_CELL_Y) || predict_pairs(e, m, a)
+               ? -1
+               : 0;
+}
+
+/* A fresh calendar: every disk's events (pairs once each: with the later
+ * disks only would miss nothing, but both ways costs only duplicates that
+ * go stale together; each pair is predicted from the lower id). */
+int event_predict_all(psim_sim *e, emodel *m)
+{
+    ecal_clear(&m->cal);
+    for (int32_t a = 0; a < m->n; a++)
+        if (event_predict_disk(e, m, a))
+            return -1;
+    return 0;
+}
+
+/* Bring disk a to time t along its path. */
+static void advance(emodel *m, int32_t a, double t)
+{
+    double s = t - m->t[a];
+    m->x[a] += m->vx[a] * s;
+    m->y[a] += m->vy[a] * s;
+    m->t[a] = t;
+}
+
+/* The elastic collision of equal disks a and b at their contact: the
+ * relative velocity's component along the line of centres is exchanged. */
+static void collide(emodel *m, int32_t a, int32_t b)
+{
+    double dx = m->x[b] - m->x[a], dy = m->y[b] - m->y[a];
+    double dvx = m->vx[b] - m->vx[a], dvy = m->vy[b] - m->vy[a];
+    double bb = dx * dvx + dy * dvy, k = bb / (dx * dx + dy * dy);
+    m->vx[a] += k * dx, m->vy[a] += k * dy;
+    m->vx[b] -= k * dx, m->vy[b] -= k * dy;
+    m->virial += -bb;
+}
+
+static int stale(const emodel *m, const eevent *ev)
+{
+    return ev->ca != m->cnt[ev->a] || (ev->b >= 0 && ev->cb != m->cnt[ev->b]);
+}
+
+/* Disk a's centre crossed into the next cell along axis: the disks of the
+ * new row or column of neighbours, and its next crossing on that axis. */
+static int cross(psim_sim *e, emodel *m, int32_t a, int axis)
+{
+    double v = axis ? m->vy[a] : m->vx[a];
+    int d = v > 0 ? 1 : -1;
+    event_cell_remove(m, a);
+    if (axis)
+        m->cy[a] += d;
+    else
+        m->cx[a] += d;
+    event_cell_insert(m, a);
+    e->stats.counter[EC_CROSSINGS]++;
+    int rc;
+    if (axis)
+        rc = predict_row(e, m, a, m->cy[a] + d, m->cx[a] - 1, m->cx[a] + 1);
+    else {
+        rc = 0;
+        for (int y = m->cy[a] - 1; y <= m->cy[a] + 1 && !rc; y++)
+            rc = predict_row(e, m, a, y, m->cx[a] + d, m->cx[a] + d);
+    }
+    return rc || push(e, m, event_cell_time(m, a, axis), a, axis ? EV_CELL_Y : EV_CELL_X);
+}
+
+static int process(psim_sim *e, emodel *m, const eevent *ev)
+{
+    int32_t a = ev->a, b = ev->b;
+    m->now = ev->t;
+    advance(m, a, ev->t);
+    if (b >= 0) {
+        advance(m, b, ev->t);
+        collide(m, a, b);
+        m->cnt[a]++, m->cnt[b]++;
+        m->last[a] = b, m->last[b] = a;
+        e->stats.counter[EC_COLLISIONS]++;
+        return event_predict_disk(e, m, a) || event_predict_disk(e, m, b) ? -1 : 0;
+    }
+    if (b == EV_WALL_X || b == EV_WALL_Y) {
+        if (b == EV_WALL_X)
+            m->vx[a] = -m->vx[a];
+        else
+            m->vy[a] = -m->vy[a];
+        m->cnt[a]++;
+        m->last[a] = -1;
+        e->stats.counter[EC_WALLS]++;
+        return event_predict_disk(e, m, a);
+    }
+    return cross(e, m, a, b == EV_CELL_Y);
+}
+
+/* Take the events up to time T in order (those at T included). */
+int event_run_until(psim_sim *e, emodel *m, double T)
+{
+    while (m->cal.n && m->cal.heap[0].t <= T) {
+        eevent ev = ecal_pop(&m->cal);
+        if (stale(m, &ev)) {
+            e->stats.counter[EC_STALE]++;
+            continue;
+        }
+        if (process(e, m, &ev))
+            return -1;
+        /* stale events pile up: start afresh when they are most of it */
+        if (m->cal.n > 32 * (size_t)m->n + 1024 && event_predict_all(e, m))
+            return -1;
+    }
+    m->now = T;
+    return 0;
+}

@@ -1,0 +1,116 @@
+#!/usr/bin/env bash
+# The event model (exact event-driven hard disks): exact answers where they
+# are known by hand (a head-on pair, a wall, a cradle of touching disks), no
+# overlaps and energy to round-off on dense scenes, the same bytes for any
+# thread count, and a clear error for a scene whose disks overlap.
+set -euo pipefail
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+source "$(dirname "$0")/lib.sh" "$@"
+PY=$(command -v python3) || fail "python3 is needed"
+
+event()
+{
+    local name=$1
+    shift
+    run_ok "$PSIM" -q --model event "$@" -o "$tmp/$name.out"
+    [[ -s $tmp/$name.out ]] || fail "$name: no output from: psim --model event $*"
+}
+
+# expect_state FILE "i x y vx vy" ...: the final state holds these lines
+# (numbers compared exactly).
+expect_state()
+{
+    local file=$1
+    shift
+    "$PY" - "$file" "$@" <<'PYEOF' || fail "$file: wrong final state: $(cat "$file")"
+import sys
+got = {}
+for line in open(sys.argv[1]):
+    f = line.split()
+    got[int(f[1])] = tuple(float(v) for v in f[2:6])
+for want in sys.argv[2:]:
+    f = want.split()
+    assert got[int(f[0])] == tuple(float(v) for v in f[1:5]), (want, got[int(f[0])])
+PYEOF
+}
+
+# --- exact answers -------------------------------------------------------------
+# Head-on: contact at t = 4 (gap 8, closing speed 2), velocities exchanged.
+printf '2\n100\n1\n10\n0 10 50 1 0\n1 20 50 -1 0\n' >"$tmp/pair.in"
+event pair "$tmp/pair.in"
+expect_state "$tmp/pair.out" "0 8 50 -1 0" "1 22 50 1 0"
+# A wall: the centre reaches x = r at t = 4 and comes back.
+printf '1\n100\n1\n10\n0 5 50 -1 0.5\n' >"$tmp/wall.in"
+event wall "$tmp/wall.in"
+expect_state "$tmp/wall.out" "0 7 55 1 0.5"
+# Newton's cradle: touching disks, the first moving into the row: the
+# collisions all happen at t = 0 and the last disk leaves with the speed.
+printf '5\n100\n1\n10\n0 10 50 1 0\n1 12 50 0 0\n2 14 50 0 0\n3 16 50 0 0\n4 18 50 0 0\n' >"$tmp/cradle.in"
+event cradle --stats "$tmp/cradle.json" "$tmp/cradle.in"
+expect_state "$tmp/cradle.out" "0 10 50 0 0" "3 16 50 0 0" "4 28 50 1 0"
+# Disks that touch but move apart, or slide along each other, never collide.
+printf '2\n100\n1\n10\n0 10 50 -1 0\n1 12 50 1 0\n' >"$tmp/apart.in"
+event apart "$tmp/apart.in"
+expect_state "$tmp/apart.out" "0 2 50 1 0" "1 22 50 1 0"   # 0 hit the wall at t = 9
+
+# --- dense scenes: no overlaps, energy to round-off, inside the box ----------------
+check_trace()   # SCENE TRACE: every step of the trace
+{
+    "$PY" - "$1" "$2" <<'PYEOF' || fail "$2: overlaps, energy drift or a disk outside the box"
+import sys, math, collections
+lines = open(sys.argv[1]).read().split('\n')
+n, L, r = int(lines[0]), float(lines[1]), float(lines[2])
+ke0 = sum(float(l.split()[3]) ** 2 + float(l.split()[4]) ** 2 for l in lines[4:4 + n])
+steps = collections.defaultdict(list)
+for line in open(sys.argv[2]):
+    f = line.split()
+    steps[int(f[0])].append(tuple(float(v) for v in f[2:6]))
+assert len(steps) > 0
+tol = 1e-9 * r
+for k, st in steps.items():
+    assert len(st) == n
+    ke = sum(vx * vx + vy * vy for _, _, vx, vy in st)
+    assert abs(ke - ke0) <= 1e-12 * ke0, ("energy", k, ke, ke0)
+    cells = collections.defaultdict(list)
+    for i, (x, y, _, _) in enumerate(st):
+        assert r - tol <= x <= L - r + tol and r - tol <= y <= L - r + tol, ("box", k, i, x, y)
+        cells[(int(x // (2 * r)), int(y // (2 * r)))].append(i)
+    for (cx, cy), ids in cells.items():
+        for dx in (-1, 0, 1):
+            for dy in (-1, 0, 1):
+                for j in cells.get((cx + dx, cy + dy), []):
+                    for i in ids:
+                        if i < j:
+                            d = math.hypot(st[i][0] - st[j][0], st[i][1] - st[j][1])
+                            assert d >= 2 * r - tol, ("overlap", k, i, j, d)
+PYEOF
+}
+gen "$tmp/dense.in" --n 900 --r 1 --density 0.7 --steps 40 --vmin -0.5 --vmax 0.5 --place lattice --seed 4
+run_ok "$PSIM" -q --model event --trace "$tmp/dense.trace" --stats "$tmp/dense.json" \
+    -o "$tmp/dense.out" "$tmp/dense.in"
+check_trace "$tmp/dense.in" "$tmp/dense.trace"
+gen "$tmp/mid.in" --n 1500 --r 1 --density 0.3 --steps 60 --place nonoverlap --seed 8
+run_ok "$PSIM" -q --model event --trace "$tmp/mid.trace" -o "$tmp/mid.out" "$tmp/mid.in"
+check_trace "$tmp/mid.in" "$tmp/mid.trace"
+"$PY" - "$tmp/dense.json" "$tmp/cradle.json" <<'PYEOF' || fail "the dense scene made too few collisions"
+import json, sys
+d, c = (json.load(open(p)) for p in sys.argv[1:3])
+assert d["collisions"] > 900 * 40, d        # more than one per disk per step
+assert c["collisions"] == 4, c                 # one per touching pair, once
+PYEOF
+
+# --- the same bytes for any thread count ---------------------------------------
+for t in 1 2 3; do
+    event "mid.t$t" --threads "$t" "$tmp/mid.in"
+done
+same_file "$tmp/mid.t1.out" "$tmp/mid.t2.out" "1 vs 2 threads"
+same_file "$tmp/mid.t1.out" "$tmp/mid.t3.out" "1 vs 3 threads"
+same_file "$tmp/mid.t1.out" "$tmp/mid.out" "with and without --trace"
+
+# --- bad input ------------------------------------------------------------------
+printf '3\n100\n1\n10\n2 50 50 1 0\n0 10 50 1 0\n1 11.5 50 -1 0\n' >"$tmp/overlap.in"
+expect_fail --rc 1 "overlap.in:6: disk 0 overlaps disk 1 (line 7)" \
+    "$PSIM" --model event -o "$tmp/overlap.out" "$tmp/overlap.in"
+[[ ! -e $tmp/overlap.out ]] || fail "an output file was left after the overlap error"
+echo "event model: all checks passed"
