@@ -107,6 +107,11 @@ done
 same_file "$tmp/mid.t1.out" "$tmp/mid.t2.out" "1 vs 2 threads"
 same_file "$tmp/mid.t1.out" "$tmp/mid.t3.out" "1 vs 3 threads"
 same_file "$tmp/mid.t1.out" "$tmp/mid.out" "with and without --trace"
+# ... and for either calendar (Paul's buckets, or one binary heap)
+event mid.heap -O calendar=0 "$tmp/mid.in"
+same_file "$tmp/mid.t1.out" "$tmp/mid.heap.out" "Paul's calendar vs a binary heap"
+run_ok "$PSIM" -q --model event -O calendar=0 --trace "$tmp/dense.heap.trace" -o "$tmp/dense.heap.out" "$tmp/dense.in"
+same_file "$tmp/dense.trace" "$tmp/dense.heap.trace" "dense scene: Paul's calendar vs a binary heap"
 
 # --- bad input ------------------------------------------------------------------
 printf '3\n100\n1\n10\n2 50 50 1 0\n0 10 50 1 0\n1 11.5 50 -1 0\n' >"$tmp/overlap.in"

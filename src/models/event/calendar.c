@@ -1,47 +1,185 @@
-/* A binary min-heap of events (calendar.h). */
+/* Paul's calendar: a small binary heap for the current bucket, lists for
+ * later buckets (calendar.h). */
+#include <math.h>
+#include <string.h>
+
 #include "calendar.h"
 #include "../../engine/mem.h"
 
-int ecal_push(ecal *c, eevent ev)
+static int before(const eevent *p, const eevent *q)
 {
-    if (c->n == c->cap && psim_reserve((void **)&c->heap, &c->cap, c->n + 1, sizeof *c->heap))
+    if (p->t != q->t)
+        return p->t < q->t;
+    if (p->a != q->a)
+        return p->a < q->a;
+    return p->b < q->b;
+}
+
+static int vec_push(evec *v, eevent ev)
+{
+    if (v->n == v->cap && psim_reserve((void **)&v->e, &v->cap, v->n + 1, sizeof *v->e))
         return -1;
-    size_t k = c->n++;
-    while (k > 0) {   /* sift up */
-        size_t p = (k - 1) / 2;
-        if (!ecal_before(&ev, &c->heap[p]))
-            break;
-        c->heap[k] = c->heap[p];
-        k = p;
-    }
-    c->heap[k] = ev;
+    v->e[v->n++] = ev;
     return 0;
 }
 
-eevent ecal_pop(ecal *c)
+static void sift_down(eevent *h, size_t n, size_t k, eevent ev)
 {
-    eevent top = c->heap[0], last = c->heap[--c->n];
-    size_t k = 0, n = c->n;
-    for (;;) {   /* sift the last event down from the root */
+    for (;;) {
         size_t l = 2 * k + 1;
         if (l >= n)
             break;
-        size_t s = l + 1 < n && ecal_before(&c->heap[l + 1], &c->heap[l]) ? l + 1 : l;
-        if (!ecal_before(&c->heap[s], &last))
+        size_t s = l + 1 < n && before(&h[l + 1], &h[l]) ? l + 1 : l;
+        if (!before(&h[s], &ev))
             break;
-        c->heap[k] = c->heap[s];
+        h[k] = h[s];
         k = s;
     }
-    if (n > 0)
-        c->heap[k] = last;
-    return top;
+    h[k] = ev;
 }
 
-void ecal_clear(ecal *c) { c->n = 0; }
+static int heap_push(evec *h, eevent ev)
+{
+    if (vec_push(h, ev))
+        return -1;
+    size_t k = h->n - 1;
+    while (k > 0) {   /* sift up */
+        size_t p = (k - 1) / 2;
+        if (!before(&ev, &h->e[p]))
+            break;
+        h->e[k] = h->e[p];
+        k = p;
+    }
+    h->e[k] = ev;
+    return 0;
+}
+
+/* The bucket of time t (clamped to the current one: an event is never
+ * earlier than the current bucket but for the rounding of the division). */
+static int64_t bucket_of(const ecal *c, double t)
+{
+    double k = floor((t - c->t0) / c->w);
+    if (!(k < 9.0e18))
+        return INT64_MAX;
+    return (int64_t)k < c->cur ? c->cur : (int64_t)k;
+}
+
+static int place(ecal *c, eevent ev)
+{
+    int64_t k = bucket_of(c, ev.t);
+    if (k == c->cur)
+        return heap_push(&c->heap, ev);
+    if (k - c->cur < ECAL_BUCKETS) {
+        c->inbuckets++;
+        return vec_push(&c->bucket[k % ECAL_BUCKETS], ev);
+    }
+    return vec_push(&c->over, ev);
+}
+
+int ecal_reset(ecal *c, int buckets, double t0, double w)
+{
+    c->heap.n = c->over.n = 0;
+    c->total = c->inbuckets = 0;
+    c->oom = 0;
+    c->buckets = buckets && w > 0 && isfinite(w);
+    c->t0 = t0;
+    c->w = w;
+    c->cur = 0;
+    if (!c->buckets)
+        return 0;
+    if (!c->bucket && !(c->bucket = psim_calloc(ECAL_BUCKETS * sizeof *c->bucket)))
+        return -1;
+    for (int k = 0; k < ECAL_BUCKETS; k++)
+        c->bucket[k].n = 0;
+    return 0;
+}
+
+int ecal_push(ecal *c, eevent ev)
+{
+    c->total++;
+    if (!c->buckets)
+        return heap_push(&c->heap, ev);
+    return place(c, ev);
+}
+
+/* The overflow events that the window now reaches, to their buckets. */
+static int spread_overflow(ecal *c)
+{
+    size_t keep = 0, n = c->over.n;
+    c->over.n = 0;
+    for (size_t i = 0; i < n; i++) {
+        eevent ev = c->over.e[i];
+        int64_t k = bucket_of(c, ev.t);
+        if (k - c->cur < ECAL_BUCKETS) {
+            if (place(c, ev))
+                return -1;
+        } else
+            c->over.e[keep++] = ev;
+    }
+    c->over.n = keep;
+    return 0;
+}
+
+/* Move on to the next bucket that holds events, into the heap. */
+static int next_bucket(ecal *c)
+{
+    while (c->heap.n == 0 && c->total > 0) {
+        if (c->inbuckets == 0) {   /* only the overflow: jump to its earliest */
+            int64_t k = INT64_MAX;
+            for (size_t i = 0; i < c->over.n; i++) {
+                int64_t b = bucket_of(c, c->over.e[i].t);
+                k = b < k ? b : k;
+            }
+            c->cur = k;
+            if (spread_overflow(c))
+                return -1;
+            continue;
+        }
+        c->cur++;
+        if (c->cur % ECAL_BUCKETS == 0 && spread_overflow(c))
+            return -1;
+        evec *b = &c->bucket[c->cur % ECAL_BUCKETS];
+        if (b->n == 0)
+            continue;
+        c->inbuckets -= b->n;
+        if (c->heap.n > 0) {   /* the overflow put some in already */
+            for (size_t k = 0; k < b->n; k++)
+                if (heap_push(&c->heap, b->e[k]))
+                    return -1;
+            b->n = 0;
+            continue;
+        }
+        evec tmp = c->heap;   /* swap the bucket's list in as the heap */
+        c->heap = *b;
+        *b = tmp;
+        for (size_t k = c->heap.n / 2; k-- > 0;)
+            sift_down(c->heap.e, c->heap.n, k, c->heap.e[k]);
+    }
+    return 0;
+}
+
+const eevent *ecal_peek(ecal *c)
+{
+    if (c->heap.n == 0 && c->buckets && next_bucket(c))
+        c->oom = 1;
+    return c->heap.n && !c->oom ? &c->heap.e[0] : NULL;
+}
+
+void ecal_pop(ecal *c)
+{
+    evec *h = &c->heap;
+    eevent last = h->e[--h->n];
+    if (h->n > 0)
+        sift_down(h->e, h->n, 0, last);
+    c->total--;
+}
 
 void ecal_free(ecal *c)
 {
-    psim_free(c->heap);
-    c->heap = NULL;
-    c->n = c->cap = 0;
+    psim_free(c->heap.e);
+    psim_free(c->over.e);
+    for (int k = 0; c->bucket && k < ECAL_BUCKETS; k++)
+        psim_free(c->bucket[k].e);
+    psim_free(c->bucket);
+    memset(c, 0, sizeof *c);
 }

@@ -1,8 +1,13 @@
-/* The event calendar of the event model: a binary min-heap of pending
- * events ordered by (time, a, b), so that events at the same time are
- * taken in a fixed order.  Stale events (a disk's path changed since the
- * prediction) stay in the heap and are dropped when they come up: each
- * event carries the path counters of its disks at the prediction. */
+/* The event calendar of the event model, after Paul (J. Comput. Phys.
+ * 221, 2007): the events of the current time bucket (width w) in a small
+ * binary heap, later ones appended to the list of their bucket (a window
+ * of ECAL_BUCKETS buckets, then an overflow list, spread again when the
+ * window moves on), so that pushing an event costs O(1) and the heap stays
+ * small and in cache.  With buckets off, every event goes to the heap (the
+ * baseline).  Either way events come out in (time, a, b) order: the
+ * results do not depend on the calendar.  Stale events (a disk's path
+ * changed since the prediction) stay in and are dropped when they come
+ * up: each event carries the path counters of its disks. */
 #ifndef PSIM_EVENT_CALENDAR_H
 #define PSIM_EVENT_CALENDAR_H
 #include <stddef.h>
@@ -17,25 +22,33 @@ typedef struct eevent {
     uint32_t ca, cb;   /* path counters of a and b at the prediction */
 } eevent;
 
-typedef struct ecal {
-    eevent *heap;
+typedef struct evec {
+    eevent *e;
     size_t n, cap;
+} evec;
+
+#define ECAL_BUCKETS 4096
+
+typedef struct ecal {
+    evec heap;          /* the current bucket's events (all, without buckets) */
+    int buckets;        /* 0: heap only */
+    double t0, w;       /* bucket k holds t in [t0 + k w, t0 + (k + 1) w) */
+    int64_t cur;        /* the current bucket */
+    evec *bucket;       /* ECAL_BUCKETS: bucket k at k mod ECAL_BUCKETS */
+    size_t inbuckets;   /* events in the buckets */
+    evec over;          /* events beyond the window */
+    size_t total;       /* events in the calendar */
+    int oom;
 } ecal;
 
-/* Add an event; -1 when out of memory. */
+/* Empty the calendar; with buckets, of width w from time t0.  -1: no memory. */
+int ecal_reset(ecal *c, int buckets, double t0, double w);
+/* Add an event (at or after the current bucket); -1 when out of memory. */
 int ecal_push(ecal *c, eevent ev);
-/* Remove and return the earliest event (c->n > 0). */
-eevent ecal_pop(ecal *c);
-void ecal_clear(ecal *c);
+/* The earliest event, or NULL when there is none (or c->oom is set). */
+const eevent *ecal_peek(ecal *c);
+/* Remove the earliest event (after ecal_peek returned it). */
+void ecal_pop(ecal *c);
 void ecal_free(ecal *c);
-
-static inline int ecal_before(const eevent *p, const eevent *q)
-{
-    if (p->t != q->t)
-        return p->t < q->t;
-    if (p->a != q->a)
-        return p->a < q->a;
-    return p->b < q->b;
-}
 
 #endif

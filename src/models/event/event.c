@@ -90,6 +90,7 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
     m->sigma2 = (2 * sc->r) * (2 * sc->r);
     m->lo = sc->r;
     m->hi = sc->L - sc->r;
+    m->buckets = psim_engine_option(e, "calendar", 1) != 0;
     if (plan_cells(m) || alloc_state(m))
         goto oom;
     for (long i = 0; i < m->n; i++) {
@@ -173,6 +174,9 @@ const psim_model psim_model_event = {
     .output = {.final = 1},
     .output_digits = -1,
     .sorts_itself = 1,
+    .options = {{"calendar", "1: Paul's calendar (buckets and a small heap, default); "
+                             "0: one binary heap (the baseline)", 0, 1},
+                {NULL, NULL, 0, 0}},
     .create = create,
     .interact = interact,
     .step_summary = step_summary,

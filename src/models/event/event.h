@@ -33,6 +33,7 @@ typedef struct emodel {
     int32_t *cx, *cy;       /* its cell */
     int32_t *head, *next, *prev;   /* the disks of each cell, as lists */
     ecal cal;
+    int buckets;            /* the calendar's buckets on (off: a heap) */
     double now;             /* time of the event being processed */
     double virial;          /* sum over collisions of |dr . dv|: pressure */
 } emodel;

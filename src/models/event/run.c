@@ -67,12 +67,26 @@ int event_predict_disk(psim_sim *e, emodel *m, int32_t a)
                : 0;
 }
 
+/* The calendar's bucket width: about EVENT_BUCKET_EVENTS events a bucket,
+ * from the rate of cell crossings (n v_rms / h, the most frequent events
+ * but for collisions in dense scenes, which come at a similar rate). */
+#define EVENT_BUCKET_EVENTS 16.0
+static double bucket_width(const emodel *m)
+{
+    double v2 = 0;
+    for (long i = 0; i < m->n; i++)
+        v2 += m->vx[i] * m->vx[i] + m->vy[i] * m->vy[i];
+    double vrms = m->n ? sqrt(v2 / (double)m->n) : 0;
+    return vrms > 0 ? EVENT_BUCKET_EVENTS * m->h / ((double)m->n * vrms) : 0;
+}
+
 /* A fresh calendar: every disk's events (pairs once each: with the later
  * disks only would miss nothing, but both ways costs only duplicates that
  * go stale together; each pair is predicted from the lower id). */
 int event_predict_all(psim_sim *e, emodel *m)
 {
-    ecal_clear(&m->cal);
+    if (ecal_reset(&m->cal, m->buckets, m->now, bucket_width(m)))
+        return -1;
     for (int32_t a = 0; a < m->n; a++)
         if (event_predict_disk(e, m, a))
             return -1;
@@ -158,8 +172,14 @@ static int process(psim_sim *e, emodel *m, const eevent *ev)
 /* Take the events up to time T in order (those at T included). */
 int event_run_until(psim_sim *e, emodel *m, double T)
 {
-    while (m->cal.n && m->cal.heap[0].t <= T) {
-        eevent ev = ecal_pop(&m->cal);
+    for (;;) {
+        const eevent *top = ecal_peek(&m->cal);
+        if (m->cal.oom)
+            return -1;
+        if (!top || top->t > T)
+            break;
+        eevent ev = *top;
+        ecal_pop(&m->cal);
         if (stale(m, &ev)) {
             e->stats.counter[EC_STALE]++;
             continue;
@@ -167,7 +187,7 @@ int event_run_until(psim_sim *e, emodel *m, double T)
         if (process(e, m, &ev))
             return -1;
         /* stale events pile up: start afresh when they are most of it */
-        if (m->cal.n > 32 * (size_t)m->n + 1024 && event_predict_all(e, m))
+        if (m->cal.total > 32 * (size_t)m->n + 1024 && event_predict_all(e, m))
             return -1;
     }
     m->now = T;
