@@ -141,6 +141,7 @@ enum {
 };
 #define PSIM_PHASES_MAX 12
 #define PSIM_COUNTERS_MAX 16
+#define PSIM_VALUES_MAX 8
 
 typedef struct psim_stats {
     long steps;
@@ -153,6 +154,11 @@ typedef struct psim_stats {
     int ncounters;
     const char *counter_name[PSIM_COUNTERS_MAX];
     uint64_t counter[PSIM_COUNTERS_MAX];
+    /* The model's measured quantities (floating point: energies, virials,
+     * times), as the model defines them (psim models lists them). */
+    int nvalues;
+    const char *value_name[PSIM_VALUES_MAX];
+    double value[PSIM_VALUES_MAX];
     int grid_cells;          /* cells per side (0: the model uses no grid) */
     double cell_side;        /* side of a cell (> the model's reach) */
     int tile_cells;          /* cells per tile side */

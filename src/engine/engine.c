@@ -62,6 +62,9 @@ static void name_stats(psim_stats *st, const psim_model *m)
     st->ncounters = 0;
     for (int k = 0; k < PSIM_COUNTERS_MAX && m->counters[k]; k++)
         st->counter_name[st->ncounters++] = m->counters[k];
+    st->nvalues = 0;
+    for (int k = 0; k < PSIM_VALUES_MAX && m->values[k]; k++)
+        st->value_name[st->nvalues++] = m->values[k];
 }
 
 int psim_engine_grid(psim_sim *e, double reach, const double *bbox)

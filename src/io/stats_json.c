@@ -1,4 +1,5 @@
 /* --stats FILE: the run's statistics as JSON. */
+#include <math.h>
 #include <stdio.h>
 
 #include "psim/psim.h"
@@ -46,6 +47,11 @@ int psim_write_stats_json(FILE *f, const psim_sim *e, const char *scene_name,
     for (int k = 0; k < s->ncounters; k++)
         fprintf(f, ",\n  \"%s\": %llu", s->counter_name[k],
                 (unsigned long long)s->counter[k]);
+    for (int k = 0; k < s->nvalues; k++)
+        if (isfinite(s->value[k]))
+            fprintf(f, ",\n  \"%s\": %.17g", s->value_name[k], s->value[k]);
+        else
+            fprintf(f, ",\n  \"%s\": null", s->value_name[k]);
     fprintf(f, "%s\n%s}\n", extra ? "," : "", extra ? extra : "");
     return ferror(f) ? -1 : 0;
 }

@@ -79,6 +79,15 @@ static int alloc_state(emodel *m)
     return 0;
 }
 
+/* Kinetic energy of unit masses, summed in id order. */
+static double kinetic(const emodel *m)
+{
+    double k = 0;
+    for (long i = 0; i < m->n; i++)
+        k += m->vx[i] * m->vx[i] + m->vy[i] * m->vy[i];
+    return k / 2;
+}
+
 static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
 {
     emodel *m = calloc(1, sizeof *m);
@@ -117,6 +126,7 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
     }
     if (event_predict_all(e, m))
         goto oom;
+    e->stats.value[EV_KINETIC0] = e->stats.value[EV_KINETIC] = kinetic(m);
     return m;
 oom:
     destroy(m);
@@ -124,10 +134,16 @@ oom:
     return NULL;
 }
 
-/* The state at time T, to the store (the disks stay at their own times). */
+/* The state at time T, to the store (the disks stay at their own times),
+ * and the measured values. */
 static void sync_store(psim_sim *e, const emodel *m, double T)
 {
     psim_store *s = &e->st;
+    double *v = e->stats.value;
+    v[EV_TIME] = T;
+    v[EV_KINETIC] = kinetic(m);
+    v[EV_VIRIAL] = m->virial;
+    v[EV_WALL_IMPULSE] = m->wall_impulse;
     for (size_t k = 0; k < s->n; k++) {
         int32_t i = s->id[k];
         double dt = T - m->t[i];
@@ -171,6 +187,7 @@ const psim_model psim_model_event = {
     .phases = {"events", "sync", NULL},
     .counters = {"collisions", "wall_hits", "cell_crossings", "stale_events", "predictions",
                  NULL},
+    .values = {"time", "kinetic0", "kinetic", "virial", "wall_impulse", NULL},
     .output = {.final = 1},
     .output_digits = -1,
     .sorts_itself = 1,

@@ -20,6 +20,7 @@
 
 enum { EPHASE_EVENTS = PSIM_PHASE_MODEL, EPHASE_SYNC };
 enum { EC_COLLISIONS, EC_WALLS, EC_CROSSINGS, EC_STALE, EC_PREDICTIONS };
+enum { EV_TIME, EV_KINETIC0, EV_KINETIC, EV_VIRIAL, EV_WALL_IMPULSE };
 
 typedef struct emodel {
     long n;
@@ -35,7 +36,8 @@ typedef struct emodel {
     ecal cal;
     int buckets;            /* the calendar's buckets on (off: a heap) */
     double now;             /* time of the event being processed */
-    double virial;          /* sum over collisions of |dr . dv|: pressure */
+    double virial;          /* sum over collisions of -dr.dv (= r_ab . dp_a) */
+    double wall_impulse;    /* sum over wall hits of 2 |v_n| (unit masses) */
 } emodel;
 
 /* predict.c: the times of the next events (now at the earliest; INFINITY

@@ -157,10 +157,9 @@ static int process(psim_sim *e, emodel *m, const eevent *ev)
         return event_predict_disk(e, m, a) || event_predict_disk(e, m, b) ? -1 : 0;
     }
     if (b == EV_WALL_X || b == EV_WALL_Y) {
-        if (b == EV_WALL_X)
-            m->vx[a] = -m->vx[a];
-        else
-            m->vy[a] = -m->vy[a];
+        double *v = b == EV_WALL_X ? &m->vx[a] : &m->vy[a];
+        m->wall_impulse += 2 * fabs(*v);
+        *v = -*v;
         m->cnt[a]++;
         m->last[a] = -1;
         e->stats.counter[EC_WALLS]++;
