@@ -14,9 +14,7 @@ static void destroy(void *p)
     emodel *m = p;
     if (!m)
         return;
-    psim_free(m->x), psim_free(m->y), psim_free(m->vx), psim_free(m->vy), psim_free(m->t);
-    psim_free(m->cnt), psim_free(m->last), psim_free(m->cx), psim_free(m->cy);
-    psim_free(m->head), psim_free(m->next), psim_free(m->prev);
+    psim_free(m->d), psim_free(m->head);
     ecal_free(&m->cal);
     free(m);
 }
@@ -44,12 +42,12 @@ static long first_overlap(const emodel *m, long *jout)
 {
     for (long i = 0; i < m->n; i++) {
         long best = -1;
-        for (int y = m->cy[i] - 1; y <= m->cy[i] + 1; y++)
-            for (int x = m->cx[i] - 1; x <= m->cx[i] + 1; x++) {
+        for (int y = m->d[i].cy - 1; y <= m->d[i].cy + 1; y++)
+            for (int x = m->d[i].cx - 1; x <= m->d[i].cx + 1; x++) {
                 if (x < 0 || y < 0 || x >= m->G || y >= m->G)
                     continue;
-                for (int32_t j = m->head[y * m->G + x]; j >= 0; j = m->next[j]) {
-                    double dx = m->x[j] - m->x[i], dy = m->y[j] - m->y[i];
+                for (int32_t j = m->head[y * m->G + x]; j >= 0; j = m->d[j].next) {
+                    double dx = m->d[j].x - m->d[i].x, dy = m->d[j].y - m->d[i].y;
                     if (j > i && dx * dx + dy * dy < m->sigma2 && (best < 0 || j < best))
                         best = j;
                 }
@@ -64,18 +62,14 @@ static long first_overlap(const emodel *m, long *jout)
 
 static int alloc_state(emodel *m)
 {
-    size_t n = (size_t)m->n, d = n * sizeof(double), w = n * sizeof(int32_t);
     size_t cells = (size_t)m->G * (size_t)m->G;
-    m->x = psim_alloc(d), m->y = psim_alloc(d), m->vx = psim_alloc(d), m->vy = psim_alloc(d);
-    m->t = psim_calloc(d);
-    m->cnt = psim_calloc(w), m->last = psim_alloc(w), m->cx = psim_alloc(w);
-    m->cy = psim_alloc(w), m->next = psim_alloc(w), m->prev = psim_alloc(w);
-    m->head = psim_alloc(cells * sizeof(int32_t));
-    if (!m->x || !m->y || !m->vx || !m->vy || !m->t || !m->cnt || !m->last || !m->cx ||
-        !m->cy || !m->next || !m->prev || !m->head)
+    m->d = psim_calloc((size_t)m->n * sizeof *m->d);   /* psim_alloc: cache-line aligned */
+    m->head = psim_alloc(cells * sizeof *m->head);
+    if (!m->d || !m->head)
         return -1;
-    memset(m->head, 0xff, cells * sizeof(int32_t));   /* -1: empty */
-    memset(m->last, 0xff, w);
+    memset(m->head, 0xff, cells * sizeof *m->head);   /* -1: empty */
+    for (long i = 0; i < m->n; i++)
+        m->d[i].last = -1;
     return 0;
 }
 
@@ -84,7 +78,7 @@ static double kinetic(const emodel *m)
 {
     double k = 0;
     for (long i = 0; i < m->n; i++)
-        k += m->vx[i] * m->vx[i] + m->vy[i] * m->vy[i];
+        k += m->d[i].vx * m->d[i].vx + m->d[i].vy * m->d[i].vy;
     return k / 2;
 }
 
@@ -103,15 +97,15 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
     if (plan_cells(m) || alloc_state(m))
         goto oom;
     for (long i = 0; i < m->n; i++) {
-        m->x[i] = sc->x[i], m->y[i] = sc->y[i];
-        m->vx[i] = sc->vx[i], m->vy[i] = sc->vy[i];
-        m->cx[i] = cell_of(m, m->x[i]);
-        m->cy[i] = cell_of(m, m->y[i]);
+        m->d[i].x = sc->x[i], m->d[i].y = sc->y[i];
+        m->d[i].vx = sc->vx[i], m->d[i].vy = sc->vy[i];
+        m->d[i].cx = cell_of(m, m->d[i].x);
+        m->d[i].cy = cell_of(m, m->d[i].y);
         event_cell_insert(m, (int32_t)i);
     }
     long j = -1, i = first_overlap(m, &j);
     if (i >= 0) {
-        double d = hypot(m->x[j] - m->x[i], m->y[j] - m->y[i]);
+        double d = hypot(m->d[j].x - m->d[i].x, m->d[j].y - m->d[i].y);
         char where[64] = "";
         if (sc->line)
             snprintf(where, sizeof where, " (line %ld)", sc->line[j]);
@@ -146,11 +140,11 @@ static void sync_store(psim_sim *e, const emodel *m, double T)
     v[EV_WALL_IMPULSE] = m->wall_impulse;
     for (size_t k = 0; k < s->n; k++) {
         int32_t i = s->id[k];
-        double dt = T - m->t[i];
-        s->x[k] = m->x[i] + m->vx[i] * dt;
-        s->y[k] = m->y[i] + m->vy[i] * dt;
-        s->vx[k] = m->vx[i];
-        s->vy[k] = m->vy[i];
+        double dt = T - m->d[i].t;
+        s->x[k] = m->d[i].x + m->d[i].vx * dt;
+        s->y[k] = m->d[i].y + m->d[i].vy * dt;
+        s->vx[k] = m->d[i].vx;
+        s->vy[k] = m->d[i].vy;
     }
 }
 

@@ -22,17 +22,24 @@ enum { EPHASE_EVENTS = PSIM_PHASE_MODEL, EPHASE_SYNC };
 enum { EC_COLLISIONS, EC_WALLS, EC_CROSSINGS, EC_STALE, EC_PREDICTIONS };
 enum { EV_TIME, EV_KINETIC0, EV_KINETIC, EV_VIRIAL, EV_WALL_IMPULSE };
 
+/* A disk at its own time t, in one cache line: a prediction reads the
+ * whole of each partner. */
+typedef struct edisk {
+    double x, y, vx, vy, t;
+    uint32_t cnt;           /* path changes (collisions, walls) */
+    int32_t last;           /* last collision partner (-1: none since) */
+    int32_t cx, cy;         /* cell */
+    int32_t next, prev;     /* the cell's other disks, as a list */
+} edisk;
+
 typedef struct emodel {
     long n;
     double L, r, sigma2;    /* box side, radius, (2r)^2 */
     double lo, hi;          /* walls for centres: r and L - r */
     int G;                  /* cells per side */
     double h;               /* cell side L / G >= 2r */
-    double *x, *y, *vx, *vy, *t;   /* disk i at its own time t[i] */
-    uint32_t *cnt;          /* path changes of disk i (collisions, walls) */
-    int32_t *last;          /* its last collision partner (-1: none since) */
-    int32_t *cx, *cy;       /* its cell */
-    int32_t *head, *next, *prev;   /* the disks of each cell, as lists */
+    edisk *d;               /* n disks */
+    int32_t *head;          /* first disk of each cell (-1: none) */
     ecal cal;
     int buckets;            /* the calendar's buckets on (off: a heap) */
     double now;             /* time of the event being processed */

@@ -13,17 +13,17 @@
  * is s = c / (-b + sqrt(b^2 - |dv|^2 c)): no cancellation. */
 double event_pair_time(const emodel *m, int32_t a, int32_t b)
 {
-    double t0 = m->t[a] > m->t[b] ? m->t[a] : m->t[b];
-    double sa = t0 - m->t[a], sb = t0 - m->t[b];
-    double dx = (m->x[b] + m->vx[b] * sb) - (m->x[a] + m->vx[a] * sa);
-    double dy = (m->y[b] + m->vy[b] * sb) - (m->y[a] + m->vy[a] * sa);
-    double dvx = m->vx[b] - m->vx[a], dvy = m->vy[b] - m->vy[a];
+    double t0 = m->d[a].t > m->d[b].t ? m->d[a].t : m->d[b].t;
+    double sa = t0 - m->d[a].t, sb = t0 - m->d[b].t;
+    double dx = (m->d[b].x + m->d[b].vx * sb) - (m->d[a].x + m->d[a].vx * sa);
+    double dy = (m->d[b].y + m->d[b].vy * sb) - (m->d[a].y + m->d[a].vy * sa);
+    double dvx = m->d[b].vx - m->d[a].vx, dvy = m->d[b].vy - m->d[a].vy;
     double bb = dx * dvx + dy * dvy;
     if (!(bb < 0))
         return INFINITY;   /* apart, or moving apart */
     double c = dx * dx + dy * dy - m->sigma2;
     if (c <= 0) {          /* touching: now, unless they have just collided */
-        if (m->last[a] == b && m->last[b] == a)
+        if (m->d[a].last == b && m->d[b].last == a)
             return INFINITY;
         return t0 > m->now ? t0 : m->now;
     }
@@ -37,14 +37,14 @@ double event_pair_time(const emodel *m, int32_t a, int32_t b)
 /* The time disk a reaches the wall it moves towards along axis (0: x). */
 double event_wall_time(const emodel *m, int32_t a, int axis)
 {
-    double p = axis ? m->y[a] : m->x[a], v = axis ? m->vy[a] : m->vx[a], s;
+    double p = axis ? m->d[a].y : m->d[a].x, v = axis ? m->d[a].vy : m->d[a].vx, s;
     if (v > 0)
         s = (m->hi - p) / v;
     else if (v < 0)
         s = (m->lo - p) / v;
     else
         return INFINITY;
-    double t = m->t[a] + (s > 0 ? s : 0);
+    double t = m->d[a].t + (s > 0 ? s : 0);
     return t > m->now ? t : m->now;
 }
 
@@ -52,14 +52,14 @@ double event_wall_time(const emodel *m, int32_t a, int axis)
  * the edge cells towards the wall. */
 double event_cell_time(const emodel *m, int32_t a, int axis)
 {
-    double p = axis ? m->y[a] : m->x[a], v = axis ? m->vy[a] : m->vx[a], s;
-    int c = axis ? m->cy[a] : m->cx[a];
+    double p = axis ? m->d[a].y : m->d[a].x, v = axis ? m->d[a].vy : m->d[a].vx, s;
+    int c = axis ? m->d[a].cy : m->d[a].cx;
     if (v > 0 && c + 1 < m->G)
         s = ((c + 1) * m->h - p) / v;
     else if (v < 0 && c > 0)
         s = (c * m->h - p) / v;
     else
         return INFINITY;
-    double t = m->t[a] + (s > 0 ? s : 0);
+    double t = m->d[a].t + (s > 0 ? s : 0);
     return t > m->now ? t : m->now;
 }

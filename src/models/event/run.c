@@ -6,23 +6,23 @@
 
 void event_cell_insert(emodel *m, int32_t i)
 {
-    int32_t c = m->cy[i] * m->G + m->cx[i];
-    m->prev[i] = -1;
-    m->next[i] = m->head[c];
+    int32_t c = m->d[i].cy * m->G + m->d[i].cx;
+    m->d[i].prev = -1;
+    m->d[i].next = m->head[c];
     if (m->head[c] >= 0)
-        m->prev[m->head[c]] = i;
+        m->d[m->head[c]].prev = i;
     m->head[c] = i;
 }
 
 void event_cell_remove(emodel *m, int32_t i)
 {
-    int32_t c = m->cy[i] * m->G + m->cx[i];
-    if (m->prev[i] >= 0)
-        m->next[m->prev[i]] = m->next[i];
+    int32_t c = m->d[i].cy * m->G + m->d[i].cx;
+    if (m->d[i].prev >= 0)
+        m->d[m->d[i].prev].next = m->d[i].next;
     else
-        m->head[c] = m->next[i];
-    if (m->next[i] >= 0)
-        m->prev[m->next[i]] = m->prev[i];
+        m->head[c] = m->d[i].next;
+    if (m->d[i].next >= 0)
+        m->d[m->d[i].next].prev = m->d[i].prev;
 }
 
 static int push(psim_sim *e, emodel *m, double t, int32_t a, int32_t b)
@@ -30,7 +30,7 @@ static int push(psim_sim *e, emodel *m, double t, int32_t a, int32_t b)
     if (!(t < INFINITY))
         return 0;
     e->stats.counter[EC_PREDICTIONS]++;
-    return ecal_push(&m->cal, (eevent){t, a, b, m->cnt[a], b >= 0 ? m->cnt[b] : 0});
+    return ecal_push(&m->cal, (eevent){t, a, b, m->d[a].cnt, b >= 0 ? m->d[b].cnt : 0});
 }
 
 /* The earliest collision of disk a with the disks of cells x0..x1 of row
@@ -43,7 +43,7 @@ static void earliest_in_row(const emodel *m, int32_t a, int y, int x0, int x1, d
     x0 = x0 < 0 ? 0 : x0;
     x1 = x1 >= m->G ? m->G - 1 : x1;
     for (int x = x0; x <= x1; x++)
-        for (int32_t q = m->head[y * m->G + x]; q >= 0; q = m->next[q]) {
+        for (int32_t q = m->head[y * m->G + x]; q >= 0; q = m->d[q].next) {
             if (q == a)
                 continue;
             double tq = event_pair_time(m, a, q);
@@ -61,8 +61,8 @@ static int predict_pairs(psim_sim *e, emodel *m, int32_t a)
 {
     double t = INFINITY;
     int32_t b = -1;
-    for (int y = m->cy[a] - 1; y <= m->cy[a] + 1; y++)
-        earliest_in_row(m, a, y, m->cx[a] - 1, m->cx[a] + 1, &t, &b);
+    for (int y = m->d[a].cy - 1; y <= m->d[a].cy + 1; y++)
+        earliest_in_row(m, a, y, m->d[a].cx - 1, m->d[a].cx + 1, &t, &b);
     return push(e, m, t, a, b);
 }
 
@@ -92,7 +92,7 @@ static double bucket_width(const emodel *m)
 {
     double v2 = 0;
     for (long i = 0; i < m->n; i++)
-        v2 += m->vx[i] * m->vx[i] + m->vy[i] * m->vy[i];
+        v2 += m->d[i].vx * m->d[i].vx + m->d[i].vy * m->d[i].vy;
     double vrms = m->n ? sqrt(v2 / (double)m->n) : 0;
     return vrms > 0 ? EVENT_BUCKET_EVENTS * m->h / ((double)m->n * vrms) : 0;
 }
@@ -113,27 +113,27 @@ int event_predict_all(psim_sim *e, emodel *m)
 /* Bring disk a to time t along its path. */
 static void advance(emodel *m, int32_t a, double t)
 {
-    double s = t - m->t[a];
-    m->x[a] += m->vx[a] * s;
-    m->y[a] += m->vy[a] * s;
-    m->t[a] = t;
+    double s = t - m->d[a].t;
+    m->d[a].x += m->d[a].vx * s;
+    m->d[a].y += m->d[a].vy * s;
+    m->d[a].t = t;
 }
 
 /* The elastic collision of equal disks a and b at their contact: the
  * relative velocity's component along the line of centres is exchanged. */
 static void collide(emodel *m, int32_t a, int32_t b)
 {
-    double dx = m->x[b] - m->x[a], dy = m->y[b] - m->y[a];
-    double dvx = m->vx[b] - m->vx[a], dvy = m->vy[b] - m->vy[a];
+    double dx = m->d[b].x - m->d[a].x, dy = m->d[b].y - m->d[a].y;
+    double dvx = m->d[b].vx - m->d[a].vx, dvy = m->d[b].vy - m->d[a].vy;
     double bb = dx * dvx + dy * dvy, k = bb / (dx * dx + dy * dy);
-    m->vx[a] += k * dx, m->vy[a] += k * dy;
-    m->vx[b] -= k * dx, m->vy[b] -= k * dy;
+    m->d[a].vx += k * dx, m->d[a].vy += k * dy;
+    m->d[b].vx -= k * dx, m->d[b].vy -= k * dy;
     m->virial += -bb;
 }
 
 static int stale(const emodel *m, const eevent *ev)
 {
-    return ev->ca != m->cnt[ev->a] || (ev->b >= 0 && ev->cb != m->cnt[ev->b]);
+    return ev->ca != m->d[ev->a].cnt || (ev->b >= 0 && ev->cb != m->d[ev->b].cnt);
 }
 
 /* Disk a's centre crossed into the next cell along axis: its earliest
@@ -141,22 +141,22 @@ static int stale(const emodel *m, const eevent *ev)
  * next event on that axis. */
 static int cross(psim_sim *e, emodel *m, int32_t a, int axis)
 {
-    double v = axis ? m->vy[a] : m->vx[a];
+    double v = axis ? m->d[a].vy : m->d[a].vx;
     int d = v > 0 ? 1 : -1;
     event_cell_remove(m, a);
     if (axis)
-        m->cy[a] += d;
+        m->d[a].cy += d;
     else
-        m->cx[a] += d;
+        m->d[a].cx += d;
     event_cell_insert(m, a);
     e->stats.counter[EC_CROSSINGS]++;
     double t = INFINITY;
     int32_t b = -1;
     if (axis)
-        earliest_in_row(m, a, m->cy[a] + d, m->cx[a] - 1, m->cx[a] + 1, &t, &b);
+        earliest_in_row(m, a, m->d[a].cy + d, m->d[a].cx - 1, m->d[a].cx + 1, &t, &b);
     else
-        for (int y = m->cy[a] - 1; y <= m->cy[a] + 1; y++)
-            earliest_in_row(m, a, y, m->cx[a] + d, m->cx[a] + d, &t, &b);
+        for (int y = m->d[a].cy - 1; y <= m->d[a].cy + 1; y++)
+            earliest_in_row(m, a, y, m->d[a].cx + d, m->d[a].cx + d, &t, &b);
     return push(e, m, t, a, b) || predict_axis(e, m, a, axis) ? -1 : 0;
 }
 
@@ -168,17 +168,17 @@ static int process(psim_sim *e, emodel *m, const eevent *ev)
     if (b >= 0) {
         advance(m, b, ev->t);
         collide(m, a, b);
-        m->cnt[a]++, m->cnt[b]++;
-        m->last[a] = b, m->last[b] = a;
+        m->d[a].cnt++, m->d[b].cnt++;
+        m->d[a].last = b, m->d[b].last = a;
         e->stats.counter[EC_COLLISIONS]++;
         return event_predict_disk(e, m, a) || event_predict_disk(e, m, b) ? -1 : 0;
     }
     if (b == EV_WALL_X || b == EV_WALL_Y) {
-        double *v = b == EV_WALL_X ? &m->vx[a] : &m->vy[a];
+        double *v = b == EV_WALL_X ? &m->d[a].vx : &m->d[a].vy;
         m->wall_impulse += 2 * fabs(*v);
         *v = -*v;
-        m->cnt[a]++;
-        m->last[a] = -1;
+        m->d[a].cnt++;
+        m->d[a].last = -1;
         e->stats.counter[EC_WALLS]++;
         return event_predict_disk(e, m, a);
     }
@@ -200,7 +200,7 @@ int event_run_until(psim_sim *e, emodel *m, double T)
             e->stats.counter[EC_STALE]++;
             /* a's earliest collision went stale with its partner: a is
              * predicted again (predict_pairs) */
-            if (ev.b >= 0 && ev.ca == m->cnt[ev.a]) {
+            if (ev.b >= 0 && ev.ca == m->d[ev.a].cnt) {
                 m->now = ev.t;
                 if (predict_pairs(e, m, ev.a))
                     return -1;
