@@ -106,15 +106,15 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
     long j = -1, i = first_overlap(m, &j);
     if (i >= 0) {
         double d = hypot(m->d[j].x - m->d[i].x, m->d[j].y - m->d[i].y);
-        char where[64] = "";
-        if (sc->line)
-            snprintf(where, sizeof where, " (line %ld)", sc->line[j]);
-        psim_error_set(err, "%s%s%.0ld%sdisk %ld overlaps disk %ld%s: centres %.17g apart, "
-                            "less than 2r = %g (the event model needs a scene without "
-                            "overlaps: psim gen --place nonoverlap or lattice)",
-                       sc->source ? sc->source : "", sc->source ? ":" : "",
-                       sc->line ? sc->line[i] : 0L, sc->line ? ": " : "", i, j, where, d,
-                       2 * m->r);
+        char at[320] = "", also[48] = "";   /* "FILE:LINE: " and " (line LINE)" */
+        if (sc->source && sc->line) {
+            snprintf(at, sizeof at, "%s:%ld: ", sc->source, sc->line[i]);
+            snprintf(also, sizeof also, " (line %ld)", sc->line[j]);
+        }
+        psim_error_set(err, "%sdisk %ld overlaps disk %ld%s: centres %.17g apart, less than "
+                            "2r = %g (the event model needs a scene without overlaps: psim "
+                            "gen --place nonoverlap or lattice)",
+                       at, i, j, also, d, 2 * m->r);
         destroy(m);
         return NULL;
     }

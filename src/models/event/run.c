@@ -97,9 +97,8 @@ static double bucket_width(const emodel *m)
     return vrms > 0 ? EVENT_BUCKET_EVENTS * m->h / ((double)m->n * vrms) : 0;
 }
 
-/* A fresh calendar: every disk's events (pairs once each: with the later
- * disks only would miss nothing, but both ways costs only duplicates that
- * go stale together; each pair is predicted from the lower id). */
+/* A fresh calendar (at the start, and when stale events have piled up):
+ * every disk's next events from the disks' states as they are. */
 int event_predict_all(psim_sim *e, emodel *m)
 {
     if (ecal_reset(&m->cal, m->buckets, m->now, bucket_width(m)))
