@@ -13,7 +13,7 @@
 #include "../engine/timer.h"
 
 typedef struct run_opts {
-    const char *scene, *out, *trace, *stats, *model;
+    const char *scene, *out, *trace, *final, *stats, *model;
     long threads, steps, digits, tile, substeps;
     long n;                 /* -n: the model's own initial state (-1: none) */
     unsigned long long seed;
@@ -65,6 +65,8 @@ static void run_usage(FILE *f)
 "                    'x y' frames after steps 1, 11, 21, ... (no file\n"
 "                    without -o, as in the course)\n"
 "      --trace FILE  write the state after every step 1..S: 'k i x y vx vy'\n"
+"      --final FILE  write the state after the last step as --trace writes\n"
+"                    it, for any model (the force model's --out is CS267's)\n"
 "      --digits N    fixed N decimals (8 gives the course's format); default:\n"
 "                    discrete and force, the shortest text that reads back to\n"
 "                    the same double; ccd, 8 (as its authors print,\n"
@@ -93,6 +95,38 @@ static void run_usage(FILE *f)
 }
 
 /* "-" or an existing device or FIFO: may take several outputs */
+/* The absolute name of path, whether or not it exists yet (its folder's
+ * real path and its own name); NULL when that cannot be found. */
+static char *canonical(const char *path)
+{
+    char *r = realpath(path, NULL);
+    if (r)
+        return r;
+    const char *slash = strrchr(path, '/');
+    char *dir = slash ? strndup(path, (size_t)(slash - path) + 1) : strdup(".");
+    char *rdir = dir ? realpath(dir, NULL) : NULL;
+    char *out = NULL;
+    if (rdir && asprintf(&out, "%s/%s", rdir, slash ? slash + 1 : path) < 0)
+        out = NULL;
+    free(dir), free(rdir);
+    return out;
+}
+
+/* Whether two paths name the same file: the same text, the same existing
+ * file (device and inode) under two names, or the same place to be. */
+static int same_file(const char *a, const char *b)
+{
+    struct stat sa, sb;
+    if (strcmp(a, b) == 0)
+        return 1;
+    if (stat(a, &sa) == 0 && stat(b, &sb) == 0)
+        return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+    char *ca = canonical(a), *cb = canonical(b);
+    int same = ca && cb && strcmp(ca, cb) == 0;
+    free(ca), free(cb);
+    return same;
+}
+
 static int is_stream(const char *path)
 {
     struct stat st;
@@ -166,6 +200,7 @@ static int parse_run(int argc, char **argv, run_opts *o)
         {"seed", required_argument, 0, 'e'},    {"option", required_argument, 0, 'O'},
         {"naive", no_argument, 0, 'N'},         {"force-stats", no_argument, 0, 'F'},
         {"out", required_argument, 0, 'o'},     {"trace", required_argument, 0, 'T'},
+        {"final", required_argument, 0, 'Z'},
         {"digits", required_argument, 0, 'd'},  {"check", no_argument, 0, 'c'},
         {"stats", required_argument, 0, 'S'},   {"tile", required_argument, 0, 'L'},
         {"quiet", no_argument, 0, 'q'},         {"help", no_argument, 0, 'h'},
@@ -205,6 +240,7 @@ static int parse_run(int argc, char **argv, run_opts *o)
         case 'F': if (add_option(o, "stats=1")) return 2; break;
         case 'o': o->out = optarg; break;
         case 'T': o->trace = optarg; break;
+        case 'Z': o->final = optarg; break;
         case 'd': if (cli_long("--digits", optarg, 0, PSIM_DIGITS_MAX, &o->digits)) return 2; break;
         case 'c': o->check = 1; break;
         case 'S': o->stats = optarg; break;
@@ -255,14 +291,21 @@ static int parse_run(int argc, char **argv, run_opts *o)
         }
         o->threads = t;
     }
-    const char *files[3] = {o->out, o->trace, o->stats};
-    for (int a = 0; a < 3; a++)
-        for (int b = a + 1; b < 3; b++)
-            if (files[a] && files[b] && !strcmp(files[a], files[b]) && !is_stream(files[a])) {
-                fprintf(stderr, "psim: '%s' is named for two outputs (--out, --trace, --stats)\n",
-                        files[a]);
+    const char *files[4] = {o->out, o->trace, o->final, o->stats};
+    for (int a = 0; a < 4; a++) {
+        for (int b = a + 1; b < 4; b++)
+            if (files[a] && files[b] && same_file(files[a], files[b]) && !is_stream(files[a])) {
+                fprintf(stderr, "psim: '%s' is named for two outputs (--out, --trace, --final, "
+                                "--stats)\n", files[a]);
                 return 2;
             }
+        if (files[a] && o->scene && !is_stream(files[a]) && strcmp(o->scene, "-") &&
+            same_file(files[a], o->scene)) {
+            fprintf(stderr, "psim: '%s' is the scene: an output must not overwrite it\n",
+                    files[a]);
+            return 2;
+        }
+    }
     return 0;
 }
 
@@ -289,7 +332,7 @@ static int load_scene(run_opts *o, psim_scene *sc, psim_error *err)
 }
 
 typedef struct run_state {
-    outfile out, trace, stats;
+    outfile out, trace, final, stats;
     psim_output_style style;
     int print;          /* the model's output holds every step */
 } run_state;
@@ -341,6 +384,8 @@ static int open_outputs(const run_opts *o, run_state *rs)
         return -1;
     if (o->trace && outfile_open(&rs->trace, o->trace))
         return -1;
+    if (o->final && outfile_open(&rs->final, o->final))
+        return -1;
     if (o->stats && outfile_open(&rs->stats, o->stats))
         return -1;
     return 0;
@@ -350,6 +395,7 @@ static void abort_outputs(run_state *rs)
 {
     outfile_abort(&rs->out);
     outfile_abort(&rs->trace);
+    outfile_abort(&rs->final);
     outfile_abort(&rs->stats);
 }
 
@@ -462,6 +508,10 @@ int cli_run(int argc, char **argv)
         fprintf(stderr, "psim: %s: write failed\n", rs.out.name);
         goto done;
     }
+    if (rs.final.f && write_trace(s, rs.final.f, steps, o.digits)) {
+        fprintf(stderr, "psim: %s: write failed\n", rs.final.name);
+        goto done;
+    }
     if ((o.report || o.stats) && !o.pin.topo)
         o.pin.topo = psim_topo_load(NULL, &err); /* for the CPU kinds; may fail */
     if (rs.stats.f) {
@@ -474,10 +524,11 @@ int cli_run(int argc, char **argv)
         free(pin_json), free(thr_json), free(extra);
     }
     /* the summary goes to stderr when an output is on stdout */
-    FILE *info = (on_stdout(&rs.out) || on_stdout(&rs.trace) || on_stdout(&rs.stats))
+    FILE *info = (on_stdout(&rs.out) || on_stdout(&rs.trace) || on_stdout(&rs.final) ||
+                  on_stdout(&rs.stats))
                      ? stderr : stdout;
-    outfile *outs[3] = {&rs.out, &rs.trace, &rs.stats};
-    if (outfile_commit_all(outs, 3))
+    outfile *outs[4] = {&rs.out, &rs.trace, &rs.final, &rs.stats};
+    if (outfile_commit_all(outs, 4))
         goto done;
     if (!o.quiet) {
         psim_print_source_summary(info, s, loop_s);

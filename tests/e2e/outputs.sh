@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Output files: links are followed, devices written in place, a failed or
 # interrupted run leaves no output and no temporary file, write errors are
-# reported, and option errors name the option.
+# reported, option errors name the option, no output overwrites the scene
+# or another output (under any name), and --final is the last state.
 set -euo pipefail
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 source "$(dirname "$0")/lib.sh" "$@"
@@ -44,6 +45,24 @@ ls "$tmp" | grep -q 'int\.' && fail "an interrupted run left files: $(ls "$tmp")
 expect_fail --rc 2 "unknown option '-Z'" "$PSIM" --threads 2 -Zq "$tmp/s.in"
 expect_fail --rc 2 "option '--steps' needs a value" "$PSIM" "$tmp/s.in" --steps
 expect_fail --rc 2 "named for two outputs" "$PSIM" --out "$tmp/a" --trace "$tmp/a" "$tmp/s.in"
+expect_fail --rc 2 "named for two outputs" "$PSIM" --out "$tmp/b" --final "$tmp/./b" "$tmp/s.in"
+[[ ! -e $tmp/b ]] || fail "a refused run left an output"
+# no output overwrites the scene, under its own name, another or a link
+cp "$tmp/s.in" "$tmp/keep.in"
+ln -s s.in "$tmp/s-link.in"
+for opt in --out --trace --final --stats; do
+    expect_fail --rc 2 "is the scene" "$PSIM" "$opt" "$tmp/s.in" "$tmp/s.in"
+    expect_fail --rc 2 "is the scene" "$PSIM" "$opt" "$tmp/./s.in" "$tmp/s.in"
+    expect_fail --rc 2 "is the scene" "$PSIM" "$opt" "$tmp/s-link.in" "$tmp/s.in"
+done
+same_file "$tmp/s.in" "$tmp/keep.in" "the scene was changed by a refused run"
+# --final: the last state, as the trace's last step, for any model
+run_ok "$PSIM" -q --steps 3 --trace "$tmp/tr" --final "$tmp/fin" "$tmp/s.in"
+tail -n 500 "$tmp/tr" >"$tmp/tr.last"
+same_file "$tmp/fin" "$tmp/tr.last" "--final vs the trace's last step"
+run_ok "$PSIM" -q -n 300 -s 1 --steps 12 --trace "$tmp/ftr" --final "$tmp/ffin" -o "$tmp/f.out"
+tail -n 300 "$tmp/ftr" >"$tmp/ftr.last"
+same_file "$tmp/ffin" "$tmp/ftr.last" "force model: --final vs the trace's last step"
 expect_fail --rc 2 "disagree" "$PSIM" --threads 2 "$tmp/s.in" 3
 expect_fail --rc 1 "output file name is empty" "$PSIM" --out= "$tmp/s.in"
 echo "outputs: ok"
