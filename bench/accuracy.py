@@ -23,6 +23,13 @@ and is measured against the event model:
                     model's, and the Kolmogorov-Smirnov distance of the final
                     speeds from Maxwell-Boltzmann.
 
+The force model (CS267 HW2, N particles of the course's own scene) is
+measured against itself at dt/64: its position error (in cutoffs) after
+--force-steps steps of the course's dt, for dt, dt/2, ..., dt/32, with the
+run time, and the relative drift of its total energy, kinetic plus the pair
+potential U(r) = c/r - 1 + ln(r/c) (r < c) whose force is the course's
+(without the clamp at min_r).
+
 The event model's own error is checked by time reversal: H steps forward,
 velocities reversed, H steps back; the mean distance from the start is its
 round-off (amplified by the collisions in between).
@@ -36,7 +43,8 @@ usage: bench/accuracy.py [--psim build/psim] [--out DIR] [--n N]
 --quick: N 300, eta 0.2 and 0.5, speed 0.1, K 1 4 16 (for ctest)
 --check: exit 1 unless the event model's reversal error is below 1e-9
          diameters and ccd's trajectory error falls as K grows (K=1 above
-         the largest K by a factor of 4 at least) on every scene.
+         the largest K by a factor of 4 at least) on every scene, and the
+         force model's error at dt is above its error at dt/32.
 """
 import argparse
 import csv
@@ -234,6 +242,51 @@ def plot(rows, path):
     fig.savefig(path, dpi=110)
 
 
+def force_energy(state, cutoff, mass):
+    """Kinetic plus pair potential energy of a force-model state."""
+    cells = {}
+    for i, (x, y, _, _) in state.items():
+        cells.setdefault((int(x // cutoff), int(y // cutoff)), []).append(i)
+    pot = 0.0
+    for (cx, cy), ids in cells.items():
+        for dx in (-1, 0, 1):
+            for dy in (-1, 0, 1):
+                for j in cells.get((cx + dx, cy + dy), []):
+                    for i in ids:
+                        if i < j:
+                            r = math.hypot(state[i][0] - state[j][0], state[i][1] - state[j][1])
+                            if 0 < r < cutoff:
+                                pot += cutoff / r - 1 + math.log(r / cutoff)
+    kin = sum(mass * (vx * vx + vy * vy) / 2 for _, _, vx, vy in state.values())
+    return kin + pot
+
+
+def measure_force(a, tmp):
+    """Rows of the force model against its own run at dt/64."""
+    dt, cutoff, mass, n, steps = 0.0005, 0.01, 0.01, a.force_n, a.force_steps
+    base = ["--model", "force", "-n", str(n), "--seed", "1", "--threads", "1"]
+
+    def final(k, nsteps):
+        path = os.path.join(tmp, "force%d_%d.txt" % (k, nsteps))
+        stats = path + ".json"
+        subprocess.run([a.psim, "-q"] + base + ["--steps", str(nsteps), "-O", "dt=%r" % (dt / k),
+                                               "--final", path, "--stats", stats], check=True)
+        with open(stats) as f:
+            j = json.load(f)
+        return read_state(path, n), j["time_s"]
+
+    start, _ = final(1, 0)
+    e0 = force_energy(start, cutoff, mass)
+    ref, _ = final(64, steps * 64)
+    rows = []
+    for k in (1, 2, 4, 8, 16, 32, 64):
+        st, secs = final(k, steps * k)
+        rows.append(dict(model="force", setting="dt/%d" % k, n=n, time=steps * dt,
+                         error_cutoffs=mean_distance(st, ref) / cutoff, time_s=secs,
+                         energy_drift=abs(force_energy(st, cutoff, mass) / e0 - 1)))
+    return rows
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--psim", default="build/psim")
@@ -242,11 +295,14 @@ def main():
     ap.add_argument("--etas", default="0.05 0.2 0.4 0.7")
     ap.add_argument("--speeds", default="0.01 0.1 0.5")
     ap.add_argument("--ks", default="1 2 4 8 16 32 64")
+    ap.add_argument("--force-n", type=int, default=1000)
+    ap.add_argument("--force-steps", type=int, default=100)
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--check", action="store_true")
     a = ap.parse_args()
     if a.quick:
         a.n, a.etas, a.speeds, a.ks = 300, "0.2 0.5", "0.1", "1 4 16"
+        a.force_n, a.force_steps = 300, 20
     a.ks = [int(k) for k in a.ks.split()]
     os.makedirs(a.out, exist_ok=True)
     rows = []
@@ -255,11 +311,23 @@ def main():
             for speed in (float(x) for x in a.speeds.split()):
                 measure_scene(a, eta, speed, tmp, rows)
                 print("eta %.2f speed %.2f done" % (eta, speed), file=sys.stderr)
+        frows = measure_force(a, tmp)
     with open(os.path.join(a.out, "accuracy.csv"), "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
         w.writeheader()
         w.writerows(rows)
+    with open(os.path.join(a.out, "force_accuracy.csv"), "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(frows[0].keys()))
+        w.writeheader()
+        w.writerows(frows)
     write_tables(rows, os.path.join(a.out, "accuracy.md"))
+    with open(os.path.join(a.out, "accuracy.md"), "a") as f:
+        f.write("\n**force model** (CS267, n %d, seed 1, %d steps of dt = 0.0005; reference: "
+                "dt/64)\n\n| dt | position error (cutoffs) | run time s | energy drift |\n"
+                "|---|---:|---:|---:|\n" % (a.force_n, a.force_steps))
+        for r in frows:
+            f.write("| %s | %.3g | %.4f | %.2g |\n" % (r["setting"], r["error_cutoffs"],
+                                                     r["time_s"], r["energy_drift"]))
     plot(rows, os.path.join(a.out, "work_precision.png"))
     with open(os.path.join(a.out, "accuracy.md")) as f:
         sys.stdout.write(f.read())
@@ -278,6 +346,11 @@ def main():
                 print("check: ccd's error does not fall with K at eta %g: %s" % (eta, errs),
                       file=sys.stderr)
                 ok = False
+        errs = [r["error_cutoffs"] for r in frows[:-1]]
+        if not errs[0] > errs[-1]:
+            print("check: the force model's error does not fall with dt: %s" % errs,
+                  file=sys.stderr)
+            ok = False
         if not ok:
             return 1
     return 0

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Error against run time, small (bench/accuracy.py --quick --check): the
 # event model's error (time reversal) is at round-off level, and ccd's
-# trajectory error against the event model falls as its sub-steps grow;
-# the CSV and the tables are written.
+# trajectory error against the event model falls as its sub-steps grow,
+# the force model's error falls with dt; the CSV and the tables are written.
 set -euo pipefail
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
@@ -15,3 +15,5 @@ bench="$(dirname "$0")/../../bench/accuracy.py"
 # one row per model and setting per scene: event, discrete, ccd K = 1, 4, 16; two scenes
 [[ $(($(wc -l <"$tmp/acc/accuracy.csv") - 1)) == 10 ]] || fail "expected 10 rows: $(cat "$tmp/acc/accuracy.csv")"
 grep -q '^ccd,K=16,' "$tmp/acc/accuracy.csv" || fail "no ccd K=16 row"
+# the force model against itself at dt/64: dt, dt/2, ..., dt/64
+[[ $(($(wc -l <"$tmp/acc/force_accuracy.csv") - 1)) == 7 ]] || fail "expected 7 force rows"
