@@ -19,7 +19,7 @@ enum { EV_WALL_X = -1, EV_WALL_Y = -2, EV_CELL_X = -3, EV_CELL_Y = -4 };
 typedef struct eevent {
     double t;
     int32_t a, b;
-    uint32_t ca, cb;   /* path counters of a and b at the prediction */
+    uint32_t ca, cb;   /* a's schedule count, b's path count at the prediction */
 } eevent;
 
 typedef struct evec {

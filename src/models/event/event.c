@@ -14,7 +14,7 @@ static void destroy(void *p)
     emodel *m = p;
     if (!m)
         return;
-    psim_free(m->d), psim_free(m->head);
+    psim_free(m->d), psim_free(m->plan), psim_free(m->head);
     ecal_free(&m->cal);
     free(m);
 }
@@ -64,8 +64,9 @@ static int alloc_state(emodel *m)
 {
     size_t cells = (size_t)m->G * (size_t)m->G;
     m->d = psim_calloc((size_t)m->n * sizeof *m->d);   /* psim_alloc: cache-line aligned */
+    m->plan = psim_calloc((size_t)m->n * sizeof *m->plan);
     m->head = psim_alloc(cells * sizeof *m->head);
-    if (!m->d || !m->head)
+    if (!m->d || !m->plan || !m->head)
         return -1;
     memset(m->head, 0xff, cells * sizeof *m->head);   /* -1: empty */
     for (long i = 0; i < m->n; i++)

@@ -6,8 +6,10 @@
  * (elastic, equal masses), reflections off the walls x, y = r and L - r,
  * and crossings of the cells of the model's grid (cells at least 2r wide,
  * so a disk is tested only against the disks of the 3 x 3 cells around
- * it).  The calendar (calendar.h) holds every prediction; a prediction
- * goes stale when a path counter of its disks has changed since.
+ * it).  Each disk has a plan (its earliest collision, its next event on
+ * each axis) and one event in the calendar (calendar.h), the earliest of
+ * its plan; an event goes stale when its disk is planned again, and a
+ * planned collision is planned again when the partner's path has changed.
  * One time unit is one step of the scene (velocities are per step), and
  * the state is written to the store at every whole step, for output.
  * The run is sequential: its results do not depend on the thread count. */
@@ -32,6 +34,16 @@ typedef struct edisk {
     int32_t next, prev;     /* the cell's other disks, as a list */
 } edisk;
 
+/* A disk's plan: its earliest collision (tp with bp, whose path count was
+ * cp) and its next event on each axis (ta, of kind ka: cell or wall); the
+ * earliest of them is its one event in the calendar, with the schedule
+ * count sched. */
+typedef struct eplan {
+    double tp, ta[2];
+    int32_t bp, ka[2];
+    uint32_t cp, sched;
+} eplan;
+
 typedef struct emodel {
     long n;
     double L, r, sigma2;    /* box side, radius, (2r)^2 */
@@ -39,6 +51,7 @@ typedef struct emodel {
     int G;                  /* cells per side */
     double h;               /* cell side L / G >= 2r */
     edisk *d;               /* n disks */
+    eplan *plan;            /* n: their plans */
     int32_t *head;          /* first disk of each cell (-1: none) */
     ecal cal;
     int buckets;            /* the calendar's buckets on (off: a heap) */
@@ -46,12 +59,6 @@ typedef struct emodel {
     double virial;          /* sum over collisions of -dr.dv (= r_ab . dp_a) */
     double wall_impulse;    /* sum over wall hits of 2 |v_n| (unit masses) */
 } emodel;
-
-/* predict.c: the times of the next events (now at the earliest; INFINITY
- * when there is none). */
-double event_pair_time(const emodel *m, int32_t a, int32_t b);
-double event_wall_time(const emodel *m, int32_t a, int axis);
-double event_cell_time(const emodel *m, int32_t a, int axis);
 
 /* run.c */
 int event_predict_disk(psim_sim *e, emodel *m, int32_t a);

@@ -3,6 +3,7 @@
 #include <math.h>
 
 #include "event.h"
+#include "predict.h"
 
 void event_cell_insert(emodel *m, int32_t i)
 {
@@ -25,14 +26,6 @@ void event_cell_remove(emodel *m, int32_t i)
         m->d[m->d[i].next].prev = m->d[i].prev;
 }
 
-static int push(psim_sim *e, emodel *m, double t, int32_t a, int32_t b)
-{
-    if (!(t < INFINITY))
-        return 0;
-    e->stats.counter[EC_PREDICTIONS]++;
-    return ecal_push(&m->cal, (eevent){t, a, b, m->d[a].cnt, b >= 0 ? m->d[b].cnt : 0});
-}
-
 /* The earliest collision of disk a with the disks of cells x0..x1 of row
  * y, if earlier than (*t, *b) (ties: the lower partner). */
 static void earliest_in_row(const emodel *m, int32_t a, int y, int x0, int x1, double *t,
@@ -52,35 +45,63 @@ static void earliest_in_row(const emodel *m, int32_t a, int y, int x0, int x1, d
         }
 }
 
-/* Disk a's earliest collision with the disks of the 3 x 3 cells around it:
- * only that one goes into the calendar.  Any later one would be stale by
- * then (a's path changes at the earliest) unless the partner's path
- * changes first, which makes that event stale, and a is predicted again
- * when it comes up (event_run_until): no collision is missed. */
-static int predict_pairs(psim_sim *e, emodel *m, int32_t a)
+/* Disk a's earliest collision with the disks of the 3 x 3 cells around it,
+ * to its plan. */
+static void plan_pairs(emodel *m, int32_t a)
 {
-    double t = INFINITY;
-    int32_t b = -1;
+    eplan *p = &m->plan[a];
+    p->tp = INFINITY;
+    p->bp = -1;
     for (int y = m->d[a].cy - 1; y <= m->d[a].cy + 1; y++)
-        earliest_in_row(m, a, y, m->d[a].cx - 1, m->d[a].cx + 1, &t, &b);
-    return push(e, m, t, a, b);
+        earliest_in_row(m, a, y, m->d[a].cx - 1, m->d[a].cx + 1, &p->tp, &p->bp);
+    p->cp = p->bp >= 0 ? m->d[p->bp].cnt : 0;
 }
 
-/* Disk a's next event along axis: leaving its cell or, in the last cell
- * towards a wall, reaching the wall. */
-static int predict_axis(psim_sim *e, emodel *m, int32_t a, int axis)
+/* Disk a's next event along axis, to its plan: leaving its cell or, in
+ * the last cell towards a wall, reaching the wall. */
+static void plan_axis(emodel *m, int32_t a, int axis)
 {
+    eplan *p = &m->plan[a];
     double t = event_cell_time(m, a, axis);
-    if (t < INFINITY)
-        return push(e, m, t, a, axis ? EV_CELL_Y : EV_CELL_X);
-    return push(e, m, event_wall_time(m, a, axis), a, axis ? EV_WALL_Y : EV_WALL_X);
+    int32_t kind = axis ? EV_CELL_Y : EV_CELL_X;
+    if (!(t < INFINITY)) {
+        t = event_wall_time(m, a, axis);
+        kind = axis ? EV_WALL_Y : EV_WALL_X;
+    }
+    p->ta[axis] = t;
+    p->ka[axis] = kind;
+}
+
+/* Put the earliest event of disk a's plan in the calendar; any event of
+ * a's already there goes stale (its schedule count).  One event per disk:
+ * a collision planned with a partner whose path has changed since is found
+ * out when it comes up, and a planned again then (event_run_until). */
+static int schedule(psim_sim *e, emodel *m, int32_t a)
+{
+    eplan *p = &m->plan[a];
+    double t = p->tp;
+    int32_t kind = p->bp;
+    uint32_t cb = p->cp;
+    for (int axis = 0; axis < 2; axis++)
+        if (p->ta[axis] < t) {
+            t = p->ta[axis];
+            kind = p->ka[axis];
+            cb = 0;
+        }
+    p->sched++;
+    if (!(t < INFINITY))
+        return 0;
+    e->stats.counter[EC_PREDICTIONS]++;
+    return ecal_push(&m->cal, (eevent){t, a, kind, p->sched, cb});
 }
 
 /* Every next event of disk a (after its path changed). */
 int event_predict_disk(psim_sim *e, emodel *m, int32_t a)
 {
-    return predict_axis(e, m, a, 0) || predict_axis(e, m, a, 1) || predict_pairs(e, m, a) ? -1
-                                                                                         : 0;
+    plan_axis(m, a, 0);
+    plan_axis(m, a, 1);
+    plan_pairs(m, a);
+    return schedule(e, m, a);
 }
 
 /* The calendar's bucket width: the time in which about EVENT_BUCKET_EVENTS
@@ -130,14 +151,16 @@ static void collide(emodel *m, int32_t a, int32_t b)
     m->virial += -bb;
 }
 
-static int stale(const emodel *m, const eevent *ev)
+/* Replaced in the calendar since (disk a planned again). */
+static int replaced(const emodel *m, const eevent *ev)
 {
-    return ev->ca != m->d[ev->a].cnt || (ev->b >= 0 && ev->cb != m->d[ev->b].cnt);
+    return ev->ca != m->plan[ev->a].sched;
 }
 
-/* Disk a's centre crossed into the next cell along axis: its earliest
- * collision with the disks of the new row or column of neighbours, and its
- * next event on that axis. */
+/* Disk a's centre crossed into the next cell along axis: its next event
+ * on that axis, and its earliest collision with the disks of the new row
+ * or column of neighbours if earlier than the one planned (if that one's
+ * partner has changed path since, a full plan). */
 static int cross(psim_sim *e, emodel *m, int32_t a, int axis)
 {
     double v = axis ? m->d[a].vy : m->d[a].vx;
@@ -149,14 +172,17 @@ static int cross(psim_sim *e, emodel *m, int32_t a, int axis)
         m->d[a].cx += d;
     event_cell_insert(m, a);
     e->stats.counter[EC_CROSSINGS]++;
-    double t = INFINITY;
-    int32_t b = -1;
-    if (axis)
-        earliest_in_row(m, a, m->d[a].cy + d, m->d[a].cx - 1, m->d[a].cx + 1, &t, &b);
+    eplan *p = &m->plan[a];
+    plan_axis(m, a, axis);
+    if (p->bp >= 0 && p->cp != m->d[p->bp].cnt)
+        plan_pairs(m, a);
+    else if (axis)
+        earliest_in_row(m, a, m->d[a].cy + d, m->d[a].cx - 1, m->d[a].cx + 1, &p->tp, &p->bp);
     else
         for (int y = m->d[a].cy - 1; y <= m->d[a].cy + 1; y++)
-            earliest_in_row(m, a, y, m->d[a].cx + d, m->d[a].cx + d, &t, &b);
-    return push(e, m, t, a, b) || predict_axis(e, m, a, axis) ? -1 : 0;
+            earliest_in_row(m, a, y, m->d[a].cx + d, m->d[a].cx + d, &p->tp, &p->bp);
+    p->cp = p->bp >= 0 ? m->d[p->bp].cnt : 0;
+    return schedule(e, m, a);
 }
 
 static int process(psim_sim *e, emodel *m, const eevent *ev)
@@ -195,15 +221,17 @@ int event_run_until(psim_sim *e, emodel *m, double T)
             break;
         eevent ev = *top;
         ecal_pop(&m->cal);
-        if (stale(m, &ev)) {
+        if (replaced(m, &ev)) {
             e->stats.counter[EC_STALE]++;
-            /* a's earliest collision went stale with its partner: a is
-             * predicted again (predict_pairs) */
-            if (ev.b >= 0 && ev.ca == m->d[ev.a].cnt) {
-                m->now = ev.t;
-                if (predict_pairs(e, m, ev.a))
-                    return -1;
-            }
+            continue;
+        }
+        if (ev.b >= 0 && ev.cb != m->d[ev.b].cnt) {
+            /* a's planned collision: the partner's path changed since */
+            e->stats.counter[EC_STALE]++;
+            m->now = ev.t;
+            plan_pairs(m, ev.a);
+            if (schedule(e, m, ev.a))
+                return -1;
             continue;
         }
         if (process(e, m, &ev))

@@ -1,17 +1,20 @@
+#ifndef PSIM_EVENT_PREDICT_H
+#define PSIM_EVENT_PREDICT_H
+#include <math.h>
+
+#include "event.h"
+
 /* When the next events of a disk happen, from the disks' states at their
  * own times, robust to round-off: a pair that touches or overlaps by a few
  * ulps while approaching collides at once (it cannot tunnel), and a pair
  * that has just collided is not made to collide again by the ulps left
  * of its overlap (it cannot stick). */
-#include <math.h>
-
-#include "event.h"
 
 /* The contact time of disks a and b: with dr, dv their relative position
  * and velocity at the later of their times t0, b = dr.dv < 0 (approaching)
  * and c = |dr|^2 - sigma^2, the smaller root of |dr + dv s|^2 = sigma^2
  * is s = c / (-b + sqrt(b^2 - |dv|^2 c)): no cancellation. */
-double event_pair_time(const emodel *m, int32_t a, int32_t b)
+static inline double event_pair_time(const emodel *m, int32_t a, int32_t b)
 {
     double t0 = m->d[a].t > m->d[b].t ? m->d[a].t : m->d[b].t;
     double sa = t0 - m->d[a].t, sb = t0 - m->d[b].t;
@@ -35,7 +38,7 @@ double event_pair_time(const emodel *m, int32_t a, int32_t b)
 }
 
 /* The time disk a reaches the wall it moves towards along axis (0: x). */
-double event_wall_time(const emodel *m, int32_t a, int axis)
+static inline double event_wall_time(const emodel *m, int32_t a, int axis)
 {
     double p = axis ? m->d[a].y : m->d[a].x, v = axis ? m->d[a].vy : m->d[a].vx, s;
     if (v > 0)
@@ -50,7 +53,7 @@ double event_wall_time(const emodel *m, int32_t a, int axis)
 
 /* The time disk a's centre leaves its cell along axis (0: x); never for
  * the edge cells towards the wall. */
-double event_cell_time(const emodel *m, int32_t a, int axis)
+static inline double event_cell_time(const emodel *m, int32_t a, int axis)
 {
     double p = axis ? m->d[a].y : m->d[a].x, v = axis ? m->d[a].vy : m->d[a].vx, s;
     int c = axis ? m->d[a].cy : m->d[a].cx;
@@ -63,3 +66,5 @@ double event_cell_time(const emodel *m, int32_t a, int axis)
     double t = m->d[a].t + (s > 0 ? s : 0);
     return t > m->now ? t : m->now;
 }
+
+#endif
