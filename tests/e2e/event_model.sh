@@ -90,6 +90,9 @@ gen "$tmp/dense.in" --n 900 --r 1 --density 0.7 --steps 40 --vmin -0.5 --vmax 0.
 run_ok "$PSIM" -q --model event --trace "$tmp/dense.trace" --stats "$tmp/dense.json" \
     -o "$tmp/dense.out" "$tmp/dense.in"
 check_trace "$tmp/dense.in" "$tmp/dense.trace"
+# --check (walls, overlaps, energy after every step) passes, and changes nothing
+run_ok "$PSIM" -q --model event --check -o "$tmp/dense.checked.out" "$tmp/dense.in"
+same_file "$tmp/dense.out" "$tmp/dense.checked.out" "with and without --check"
 gen "$tmp/mid.in" --n 1500 --r 1 --density 0.3 --steps 60 --place nonoverlap --seed 8
 run_ok "$PSIM" -q --model event --trace "$tmp/mid.trace" -o "$tmp/mid.out" "$tmp/mid.in"
 check_trace "$tmp/mid.in" "$tmp/mid.trace"

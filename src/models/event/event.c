@@ -165,6 +165,48 @@ static int interact(psim_sim *e, void *p, psim_error *err)
     return 0;
 }
 
+/* --check: after every step, every disk inside the walls, no two disks
+ * closer than 2r (both to a relative 1e-9: round-off), and the kinetic
+ * energy that of the start to a relative 1e-12. */
+static int check(psim_sim *e, void *p, const psim_snapshot *before,
+                 const psim_snapshot *after, psim_error *err)
+{
+    const emodel *m = p;
+    (void)before;
+    const double tol = 1e-9 * m->r, lim = m->sigma2 * (1 - 2e-9);
+    double k = 0;
+    for (long i = 0; i < after->n; i++) {
+        double x = after->x[i], y = after->y[i];
+        k += after->vx[i] * after->vx[i] + after->vy[i] * after->vy[i];
+        if (!(x >= m->lo - tol && x <= m->hi + tol && y >= m->lo - tol && y <= m->hi + tol)) {
+            psim_error_set(err, "step %ld: disk %ld at (%.17g, %.17g) is outside the walls",
+                           e->step, i, x, y);
+            return -1;
+        }
+        for (int cy = m->d[i].cy - 1; cy <= m->d[i].cy + 1; cy++)
+            for (int cx = m->d[i].cx - 1; cx <= m->d[i].cx + 1; cx++) {
+                if (cx < 0 || cy < 0 || cx >= m->G || cy >= m->G)
+                    continue;
+                for (int32_t j = m->head[cy * m->G + cx]; j >= 0; j = m->d[j].next) {
+                    double dx = after->x[j] - x, dy = after->y[j] - y;
+                    if (j > i && dx * dx + dy * dy < lim) {
+                        psim_error_set(err, "step %ld: disks %ld and %d overlap (centres "
+                                            "%.17g apart, 2r = %g)",
+                                       e->step, i, j, sqrt(dx * dx + dy * dy), 2 * m->r);
+                        return -1;
+                    }
+                }
+            }
+    }
+    double k0 = e->stats.value[EV_KINETIC0];
+    if (fabs(k / 2 - k0) > 1e-12 * k0) {
+        psim_error_set(err, "step %ld: kinetic energy %.17g, %.3g relative from the start's",
+                       e->step, k / 2, (k / 2 - k0) / k0);
+        return -1;
+    }
+    return 0;
+}
+
 static void step_summary(FILE *f, const psim_stats *st)
 {
     double steps = st->steps > 0 ? (double)st->steps : 1.0;
@@ -191,6 +233,7 @@ const psim_model psim_model_event = {
                 {NULL, NULL, 0, 0}},
     .create = create,
     .interact = interact,
+    .check = check,
     .step_summary = step_summary,
     .destroy = destroy,
 };
