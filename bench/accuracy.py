@@ -55,19 +55,10 @@ import subprocess
 import sys
 import tempfile
 
-
-def henderson(eta):
-    return (1 + eta * eta / 8) / (1 - eta) ** 2
+import harddisks
 
 
-def collision_rate(eta, v):
-    """Collisions per disk per step at area fraction eta, velocity
-    components uniform in [-v, v], r = 1 (sigma = 2)."""
-    kT = v * v / 3
-    return 4 * (henderson(eta) - 1) * math.sqrt(kT) / (2.0 * math.sqrt(math.pi))
-
-
-def read_state(path, n, every_other=False):
+def read_state(path, n):
     """The last state of n lines in a discrete/event output or a ccd output
     (whose lines carry two more columns): {id: (x, y, vx, vy)}."""
     with open(path) as f:
@@ -116,10 +107,8 @@ def kinetic(state, scale=1.0):
 
 
 def ks_maxwell(state, kT, scale=1.0):
-    v = sorted(math.hypot(vx * scale, vy * scale) for _, _, vx, vy in state.values())
-    n = len(v)
-    return max(max(abs(1 - math.exp(-s * s / (2 * kT)) - i / n),
-                   abs(1 - math.exp(-s * s / (2 * kT)) - (i + 1) / n)) for i, s in enumerate(v))
+    return harddisks.ks_maxwell(
+        [math.hypot(vx * scale, vy * scale) for _, _, vx, vy in state.values()], kT)
 
 
 def write_scene(path, n, L, r, steps, state, reverse):
@@ -141,7 +130,7 @@ def settings(ks):
 def measure_scene(a, eta, speed, tmp, rows):
     n, r = a.n, 1.0
     v = speed * 2 * r
-    nu = collision_rate(eta, v)
+    nu = harddisks.collision_rate(eta, v * v / 3)   # components uniform in [-v, v]
     horizon = max(1, min(200, int(round(1 / nu))))
     longrun = max(horizon, min(1000, int(round(10 / nu))))
     scene = os.path.join(tmp, "s.in")

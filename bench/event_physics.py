@@ -29,9 +29,7 @@ import subprocess
 import sys
 import tempfile
 
-
-def henderson(eta):
-    return (1 + eta * eta / 8) / (1 - eta) ** 2
+from harddisks import collision_rate, henderson, ks_maxwell
 
 
 def run(psim, scene, steps, tmp, tag):
@@ -47,16 +45,6 @@ def run(psim, scene, steps, tmp, tag):
             p = line.split()
             speeds.append(math.hypot(float(p[4]), float(p[5])))
     return j, speeds
-
-
-def ks_maxwell(speeds, kT):
-    v = sorted(speeds)
-    n = len(v)
-    d = 0.0
-    for i, s in enumerate(v):
-        F = 1 - math.exp(-s * s / (2 * kT))
-        d = max(d, abs(F - i / n), abs(F - (i + 1) / n))
-    return d
 
 
 def main():
@@ -88,7 +76,7 @@ def main():
             zh = henderson(eta)
             coll = j2["collisions"] - j1["collisions"]
             rate = 2 * coll / (a.n * t)
-            rate_h = 4 * (zh - 1) * math.sqrt(kT) / (2.0 * math.sqrt(math.pi))
+            rate_h = collision_rate(eta, kT)
             ks = ks_maxwell(speeds, kT)
             drift = abs(j2["kinetic"] - j2["kinetic0"]) / j2["kinetic0"]
             print("| %.2f | %d | %d | %.4f | %.4f | %+.4f | %.4f | %.4f | %+.4f | %.4f | %.1e |"

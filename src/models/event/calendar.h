@@ -5,9 +5,9 @@
  * window moves on), so that pushing an event costs O(1) and the heap stays
  * small and in cache.  With buckets off, every event goes to the heap (the
  * baseline).  Either way events come out in (time, a, b) order: the
- * results do not depend on the calendar.  Stale events (a disk's path
- * changed since the prediction) stay in and are dropped when they come
- * up: each event carries the path counters of its disks. */
+ * results do not depend on the calendar.  Stale events stay in and are
+ * dropped when they come up: each event carries its disk's schedule count
+ * and its partner's path count (event.h). */
 #ifndef PSIM_EVENT_CALENDAR_H
 #define PSIM_EVENT_CALENDAR_H
 #include <stddef.h>
