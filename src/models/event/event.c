@@ -207,17 +207,6 @@ static int check(psim_sim *e, void *p, const psim_snapshot *before,
     return 0;
 }
 
-static void step_summary(FILE *f, const psim_stats *st)
-{
-    double steps = st->steps > 0 ? (double)st->steps : 1.0;
-    const uint64_t *c = st->counter;
-    fprintf(f, "  per step: %.1f collisions, %.1f wall reflections, %.1f cell crossings; "
-               "%.1f predictions, %.1f stale events\n",
-            (double)c[EC_COLLISIONS] / steps, (double)c[EC_WALLS] / steps,
-            (double)c[EC_CROSSINGS] / steps, (double)c[EC_PREDICTIONS] / steps,
-            (double)c[EC_STALE] / steps);
-}
-
 const psim_model psim_model_event = {
     .name = "event",
     .summary = "exact event-driven hard disks: the truth for accuracy reports",
@@ -234,6 +223,5 @@ const psim_model psim_model_event = {
     .create = create,
     .interact = interact,
     .check = check,
-    .step_summary = step_summary,
     .destroy = destroy,
 };
