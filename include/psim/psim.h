@@ -19,6 +19,7 @@ extern "C" {
 /* One error message, "FILE:LINE: what" where a file is involved. */
 typedef struct psim_error {
     char msg[512];
+    int usage;   /* the command line is at fault (exit status 2), not the input */
 } psim_error;
 
 void psim_error_set(psim_error *err, const char *fmt, ...)

@@ -102,7 +102,7 @@ int cli_gen(int argc, char **argv)
         return 2;
     }
     p.seed = (uint64_t)seed;
-    psim_error err = {{0}};
+    psim_error err = {{0}, 0};
     psim_scene sc;
     if (psim_scene_generate(&p, &sc, &err)) {
         fprintf(stderr, "psim gen: %s\n", err.msg);

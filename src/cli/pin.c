@@ -11,7 +11,7 @@
 
 int cli_pin_setup(cli_pin *p, int threads, int quiet)
 {
-    psim_error err = {{0}};
+    psim_error err = {{0}, 0};
     memset(&p->plan, 0, sizeof p->plan);
     p->plan.threads = threads > 0 ? threads : omp_get_max_threads();
     int needed = p->policy.kind != PSIM_PIN_NONE || p->mem != PSIM_MEM_LOCAL ||
@@ -93,7 +93,7 @@ void cli_pin_summary(FILE *f, const cli_pin *p)
 
 int cli_pin_option(cli_pin *p, int opt, const char *arg)
 {
-    psim_error err = {{0}};
+    psim_error err = {{0}, 0};
     switch (opt) {
     case CLI_OPT_PIN:
         if (psim_pin_parse(arg, &p->policy, &err)) {
@@ -173,7 +173,7 @@ int cli_plan(int argc, char **argv)
         fprintf(stderr, "psim %s: unexpected argument '%s'\n", cmd, argv[optind]);
         return 2;
     }
-    psim_error err = {{0}};
+    psim_error err = {{0}, 0};
     p.topo = psim_topo_load(p.topology, &err);
     if (!p.topo) {
         fprintf(stderr, "psim: %s\n", err.msg);

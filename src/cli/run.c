@@ -456,7 +456,7 @@ int cli_run(int argc, char **argv)
     int rc = parse_run(argc, argv, &o);
     if (rc)
         return rc;
-    psim_error err = {{0}};
+    psim_error err = {{0}, 0};
     psim_scene sc = {0};
     run_state rs = {0};
     psim_sim *s = NULL;
@@ -489,6 +489,7 @@ int cli_run(int argc, char **argv)
     s = psim_create(&sc, &cfg, &err);
     if (!s) {
         fprintf(stderr, "psim: %s\n", err.msg);
+        rc = err.usage ? 2 : 1;
         goto done;
     }
     rs.style = psim_get_output_style(s);

@@ -137,6 +137,7 @@ static int parse_options(psim_sim *e, const char *text, psim_error *err)
         size_t len = end ? (size_t)(end - text) : strlen(text);
         if (!eq || eq >= text + len) {
             psim_error_set(err, "option '%.*s': expected NAME=VALUE", (int)len, text);
+            err->usage = 1;
             return -1;
         }
         int k = option_index(e->model, text, (size_t)(eq - text));
@@ -144,6 +145,7 @@ static int parse_options(psim_sim *e, const char *text, psim_error *err)
             option_names(e->model, names, sizeof names);
             psim_error_set(err, "the %s model has no option '%.*s' (its options: %s)",
                            e->model->name, (int)(eq - text), text, names);
+            err->usage = 1;
             return -1;
         }
         const psim_model_option *o = &e->model->options[k];
@@ -153,6 +155,7 @@ static int parse_options(psim_sim *e, const char *text, psim_error *err)
         if (stop == eq + 1 || stop != text + len || errno || !(v >= o->lo && v <= o->hi)) {
             psim_error_set(err, "option %s: '%.*s' is not a number in [%g, %g]", o->name,
                            (int)(text + len - eq - 1), eq + 1, o->lo, o->hi);
+            err->usage = 1;
             return -1;
         }
         e->opt_value[k] = v;

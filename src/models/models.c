@@ -77,6 +77,8 @@ psim_sim *psim_create(const psim_scene *sc, const psim_config *cfg, psim_error *
     const psim_model *m = psim_model_find(name);
     if (!m) {
         psim_error_set(err, "unknown model '%s' (psim models lists them)", name);
+        if (err)
+            err->usage = 1;
         return NULL;
     }
     return psim_engine_create(sc, cfg, m, err);

@@ -13,6 +13,35 @@ expect_fail --rc 1 "did not settle" "$PSIM" --quiet --out "$tmp/jam.out" "$tmp/j
 [[ ! -e $tmp/jam.out ]] || fail "a run that did not settle left $tmp/jam.out"
 ls "$tmp" | grep -q tmp && fail "temporary output left behind"
 
+# the budget is per disk (--option settle=K, default 1000), not per contact:
+# 300 disks piled within 0.1 of one point (45k contacts) give up at step 1,
+# naming how many disks still approach and where
+python3 - "$tmp/pile.in" <<'PY'
+import random, sys
+random.seed(3)
+with open(sys.argv[1], "w") as f:
+    f.write("300\n2.1\n1\n5\n")
+    for i in range(300):
+        f.write(f"{i} {random.uniform(1, 1.1)} {random.uniform(1, 1.1)} "
+                f"{random.uniform(-0.05, 0.05)} {random.uniform(-0.05, 0.05)}\n")
+PY
+expect_fail --rc 1 "step 1: collisions did not settle within 300000 resolutions (1000 per disk" \
+    "$PSIM" --quiet --out "$tmp/pile.out" "$tmp/pile.in"
+[[ $FAIL_LINE =~ :\ ([0-9]+)\ disks\ in\ \[0\.9[0-9.]*,\ 1\.1[0-9.]*\]\ x ]] ||
+    fail "the message should name the disks that still approach and where: $FAIL_LINE"
+((BASH_REMATCH[1] > 100 && BASH_REMATCH[1] <= 300)) || fail "group of ${BASH_REMATCH[1]} disks"
+[[ ! -e $tmp/pile.out ]] || fail "a run that did not settle left $tmp/pile.out"
+# a scene that needs about 100 resolutions per disk in a step: settle=30
+# stops it, settle=100 and the default run it, to the same bytes
+gen "$tmp/dense.in" --n 1000 --density 1.8 --steps 3 --seed 3
+expect_fail --rc 1 "(30 per disk, --option settle=K)" "$PSIM" --quiet -O settle=30 "$tmp/dense.in"
+run_ok "$PSIM" --quiet -O settle=100 --final "$tmp/dense100.out" "$tmp/dense.in"
+run_ok "$PSIM" --quiet --stats "$tmp/dense.json" --final "$tmp/dense.out" "$tmp/dense.in"
+same_file "$tmp/dense100.out" "$tmp/dense.out"
+python3 -c "import json,sys; d = json.load(open(sys.argv[1])); sys.exit(not 30 < d['max_step_resolutions'] / d['n'] <= 100)" \
+    "$tmp/dense.json" || fail "max_step_resolutions should be 30-100 per disk: $(cat "$tmp/dense.json")"
+expect_fail --rc 2 "option settle: '0' is not a number" "$PSIM" --quiet -O settle=0 "$tmp/dense.in"
+
 # a disk wider than the box would touch both walls: its wall collision could
 # never be resolved, so such a scene is refused
 printf '3\n10\n5\n4\n0 1 1 1 0\n1 5 5 0 1\n2 9 9 -1 -1\n' > "$tmp/wide.in"

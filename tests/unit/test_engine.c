@@ -36,7 +36,7 @@ static double *run(const psim_scene *sc, int threads, int tile, int steps)
     cfg.threads = threads;
     cfg.tile_cells = tile;
     cfg.check = 1;
-    psim_error err = {{0}};
+    psim_error err = {{0}, 0};
     psim_sim *s = psim_create(sc, &cfg, &err);
     CHECK(s != NULL);
     for (int k = 0; k < steps; k++) {
@@ -62,7 +62,7 @@ int main(void)
                          .seed = 3, .place = PSIM_PLACE_UNIFORM};
     p.L = sqrt(p.n * M_PI / 0.85);
     psim_scene sc;
-    psim_error err = {{0}};
+    psim_error err = {{0}, 0};
     CHECK(psim_scene_generate(&p, &sc, &err) == 0);
     double *ref = run(&sc, 1, 2, 12);
     for (int threads = 2; threads <= 4; threads++) {

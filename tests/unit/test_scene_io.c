@@ -18,7 +18,7 @@ static int read_text(const char *text, psim_scene *sc, psim_error *err)
 static void expect_error(const char *text, const char *where, const char *what)
 {
     psim_scene sc;
-    psim_error err = {{0}};
+    psim_error err = {{0}, 0};
     CHECK_MSG(read_text(text, &sc, &err) != 0, "accepted: %s", text);
     CHECK_MSG(strstr(err.msg, where) != NULL, "'%s' lacks '%s'", err.msg, where);
     CHECK_MSG(strstr(err.msg, what) != NULL, "'%s' lacks '%s'", err.msg, what);
@@ -28,7 +28,7 @@ static void expect_error(const char *text, const char *where, const char *what)
 static void test_read_ok(void)
 {
     psim_scene sc;
-    psim_error err = {{0}};
+    psim_error err = {{0}, 0};
     CHECK(read_text("2\n10\n1\n5\n1 2 3 -1 0.5\n0 4.5 6 0 -0\n\n", &sc, &err) == 0);
     CHECK(sc.n == 2 && sc.L == 10 && sc.r == 1 && sc.steps == 5);
     /* stored by id, whatever the line order */
@@ -68,7 +68,7 @@ static void test_generate_roundtrip(void)
         psim_gen_params p = {.n = 500, .L = 100, .r = 1.5, .steps = 7, .vmin = 2,
                              .vmax = 5, .seed = 42, .place = places[k]};
         psim_scene a, b;
-        psim_error err = {{0}};
+        psim_error err = {{0}, 0};
         CHECK(psim_scene_generate(&p, &a, &err) == 0);
         for (long i = 0; i < a.n; i++) {
             CHECK(a.vx[i] >= 2 && a.vx[i] <= 5 && a.vy[i] >= 2 && a.vy[i] <= 5);
@@ -98,7 +98,7 @@ static void test_generate_roundtrip(void)
     psim_gen_params p = {.n = 2000, .L = 100, .r = 1.5, .steps = 1, .vmin = 0,
                          .vmax = 1, .seed = 1, .place = PSIM_PLACE_NONOVERLAP};
     psim_scene a;
-    psim_error err = {{0}};
+    psim_error err = {{0}, 0};
     CHECK(psim_scene_generate(&p, &a, &err) != 0);
     CHECK(strstr(err.msg, "cannot place") != NULL);
 }

@@ -51,7 +51,7 @@ static psim_topo *build(const char *synthetic, const char *keep, const kind_spec
         CHECK(hwloc_cpukinds_get_info(h, (unsigned)k, NULL, &eff, &ninfo, &infos, 0) == 0);
         CHECK_MSG(eff == -1, "kind %d was ranked by hwloc (efficiency %d)", k, eff);
     }
-    psim_error err = {{0}};
+    psim_error err = {{0}, 0};
     psim_topo *t = psim_topo_wrap(h, &err);
     CHECK(t != NULL);
     CHECK(!psim_topo_is_this_system(t));
@@ -64,7 +64,7 @@ static void expect_plan(const psim_topo *t, const char *policy, int threads,
 {
     psim_pin_policy p;
     psim_pin_plan plan;
-    psim_error err = {{0}};
+    psim_error err = {{0}, 0};
     CHECK(psim_pin_parse(policy, &p, &err) == 0);
     int rc = psim_pin_plan_make(t, &p, threads, &plan, &err);
     CHECK_MSG(rc == 0, "%s: %s", policy, err.msg);
@@ -90,7 +90,7 @@ static void expect_fail(const psim_topo *t, const char *policy, const char *part
 {
     psim_pin_policy p;
     psim_pin_plan plan;
-    psim_error err = {{0}};
+    psim_error err = {{0}, 0};
     CHECK(psim_pin_parse(policy, &p, &err) == 0);
     CHECK(psim_pin_plan_make(t, &p, 0, &plan, &err) != 0);
     CHECK_MSG(strstr(err.msg, part) != NULL, "'%s' lacks '%s'", err.msg, part);
@@ -117,7 +117,7 @@ static void test_hybrid(void)
     CHECK(strcmp(psim_topo_kind_name(t, 0), "IntelAtom") == 0);
     psim_pin_policy p;
     psim_pin_plan plan;
-    psim_error err = {{0}};
+    psim_error err = {{0}, 0};
     psim_pin_parse("pcores", &p, &err);
     CHECK(psim_pin_plan_make(t, &p, 0, &plan, &err) == 0);
     for (int k = 0; k < plan.threads; k++)
@@ -175,7 +175,7 @@ static void test_numa(void)
     expect_fail(t, "numa:2", "has 2 NUMA nodes (0..1)");
     psim_pin_policy p;
     psim_pin_plan plan;
-    psim_error err = {{0}};
+    psim_error err = {{0}, 0};
     psim_pin_parse("cores", &p, &err);
     CHECK(psim_pin_plan_make(t, &p, 0, &plan, &err) == 0);
     for (int k = 0; k < plan.threads; k++)
@@ -192,7 +192,7 @@ static void test_plain(void)
     expect_plan(t, "all", 5, "0,1,2,3,0", "oversubscribed");
     psim_pin_policy p;
     psim_pin_plan plan;
-    psim_error err = {{0}};
+    psim_error err = {{0}, 0};
     CHECK(psim_pin_parse("none", &p, &err) == 0);
     CHECK(psim_pin_plan_make(t, &p, 3, &plan, &err) == 0);
     CHECK(plan.slot == NULL && plan.threads == 3);
@@ -206,7 +206,7 @@ static void test_plain(void)
 static void test_parse(void)
 {
     psim_pin_policy p;
-    psim_error err = {{0}};
+    psim_error err = {{0}, 0};
     CHECK(psim_pin_parse("numa:3", &p, &err) == 0 && p.kind == PSIM_PIN_NUMA && p.numa == 3);
     CHECK(psim_pin_parse("numa:", &p, &err) != 0);
     CHECK(psim_pin_parse("numa:-1", &p, &err) != 0);
@@ -217,7 +217,7 @@ static void test_parse(void)
 /* On this machine: a bound team runs where the plan says. */
 static void test_this_machine(void)
 {
-    psim_error err = {{0}};
+    psim_error err = {{0}, 0};
     psim_topo *t = psim_topo_load(NULL, &err);
     CHECK(t != NULL && psim_topo_is_this_system(t));
     psim_pin_policy p;

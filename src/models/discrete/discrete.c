@@ -119,6 +119,8 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
         goto oom;
     m->ntiles = e->grid.ntiles;
     m->four_r2 = 4.0 * e->r * e->r;
+    double settle = psim_engine_option(e, "settle", SETTLE_DEFAULT);
+    m->budget = (uint64_t)(settle * (double)(e->n > 0 ? e->n : 1));
     m->tiles = psim_calloc(m->ntiles * sizeof *m->tiles);
     m->active = psim_calloc((size_t)e->n + 1);
     m->flag = psim_calloc((size_t)e->n + 1);
@@ -165,10 +167,16 @@ static int interact(psim_sim *e, void *p, psim_error *err)
     int rc;
     PSIM_TIMED(e, DPHASE_RESOLVE, rc = discrete_resolve(e, m));
     if (rc) {
+        dgroup g;
+        discrete_unsettled(e, m, &g);
         psim_error_set(err,
-            "step %ld: collisions did not settle within %d resolutions per "
-            "contact; the scene is too dense for the discrete model's fixpoint",
-            e->step + 1, SETTLE_LIMIT);
+            "step %ld: collisions did not settle within %llu resolutions "
+            "(%g per disk, --option settle=K): %llu disks in [%g, %g] x [%g, %g] "
+            "(lowest id %d) still approach each other; the scene is too dense "
+            "for the discrete model's fixpoint",
+            e->step + 1, (unsigned long long)m->budget,
+            psim_engine_option(e, "settle", SETTLE_DEFAULT), (unsigned long long)g.disks,
+            g.x0, g.x1, g.y0, g.y1, g.first_id);
         return -1;
     }
     return 0;
@@ -190,7 +198,10 @@ const psim_model psim_model_discrete = {
     .summary = "CS3210 AY2024/25: move every disk, then resolve collisions to a fixpoint",
     .phases = {"contacts", "resolve", NULL},
     .counters = {"contacts", "rounds", "max_rounds", "pair_checks", "pair_resolutions",
-                 "wall_resolutions", "tasks", NULL},
+                 "wall_resolutions", "tasks", "max_step_resolutions", NULL},
+    .options = {{"settle", "resolutions a step may take per disk before the run stops "
+                           "(default 1000)", 1, 1e9},
+                {NULL, NULL, 0, 0}},
     .output = {.final = 1},
     .output_digits = -1,
     .step_summary = step_summary,

@@ -24,7 +24,7 @@
 /* The model's own phases and logged quantities (psim_stats). */
 enum { DPHASE_CONTACTS = PSIM_PHASE_MODEL, DPHASE_RESOLVE };
 enum { DC_CONTACTS, DC_ROUNDS, DC_MAX_ROUNDS, DC_PAIR_CHECKS, DC_PAIR_RES,
-       DC_WALL_RES, DC_TASKS };
+       DC_WALL_RES, DC_TASKS, DC_MAX_STEP_RES };
 
 /* A contact: disks i < j in store order.  Positions are frozen while
  * collisions are resolved, so dp = p_j - p_i is recomputed from them when
@@ -95,16 +95,29 @@ typedef struct dmodel {
     char *dep;          /* one dependence object per tile */
     double four_r2;
     uint64_t step_contacts;  /* contacts found this step */
+    uint64_t budget;         /* resolutions a step may take (settle x n) */
 } dmodel;
 
-/* A step's collisions must settle within this many resolutions per contact
- * (and per disk, for walls); dense scenes need about 10.  Past it the
- * fixpoint is taken not to converge and the run stops with an error
- * instead of hanging. */
-#define SETTLE_LIMIT 1000
+/* A step's collisions must settle within this many resolutions (pair and
+ * wall) per disk, on average over the scene (--option settle=K).  The
+ * course's dense scenes need at most about 30 (docs/stability.md).  Past
+ * it the fixpoint is taken not to converge and the run stops with an error
+ * naming the disks that still approach, instead of hanging: the budget
+ * grows with the disks, not with their contacts, so 2000 disks piled on
+ * one point give up in a fraction of a second. */
+#define SETTLE_DEFAULT 1000
+
+/* The disks of the contacts that still approach when a step gives up:
+ * how many, their bounding box and their lowest id. */
+typedef struct dgroup {
+    uint64_t disks;
+    double x0, y0, x1, y1;
+    int32_t first_id;
+} dgroup;
 
 void discrete_find_contacts(psim_sim *e, dmodel *m);
-/* Returns 0, or -1 when collisions did not settle (SETTLE_LIMIT). */
+void discrete_unsettled(const psim_sim *e, dmodel *m, dgroup *g);
+/* Returns 0, or -1 when collisions did not settle (m->budget). */
 int discrete_resolve(psim_sim *e, dmodel *m);
 int discrete_check(psim_sim *e, void *m, const psim_snapshot *before,
                    const psim_snapshot *after, psim_error *err);

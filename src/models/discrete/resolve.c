@@ -1,5 +1,7 @@
 /* Collision resolution to a fixpoint, as rounds of a task graph
  * (see discrete.h for the scheme and why it is deterministic). */
+#include <string.h>
+
 #include <omp.h>
 
 #include "collide.h"
@@ -47,7 +49,7 @@ static void tile_task(const psim_sim *e, dmodel *m, dtile *t, int first)
     uint8_t *restrict flag = m->flag, *act = m->active;
     wl w = {t->queue, t->p1 - t->p0, 0, 0};
     uint64_t checks = 0, pres = 0, wres = 0;
-    const uint64_t budget = SETTLE_LIMIT * ((uint64_t)t->in.n + (t->p1 - t->p0));
+    const uint64_t budget = m->budget;
 
     for (uint32_t i = t->p0; i < t->p1; i++) {
         if (!first && !act[i])
@@ -149,7 +151,7 @@ static void edge_task(const psim_sim *e, dmodel *m, size_t k, int first)
         return;
     const dlist *la = &a->cross[ed->dir], *lb = &b->cross[DIR_OPP(ed->dir)];
     uint64_t total = 0, res, checks = 0;
-    const uint64_t budget = SETTLE_LIMIT * (uint64_t)(la->n + lb->n);
+    const uint64_t budget = m->budget;
     do {
         res = cross_pass(e, m, la, &checks) + cross_pass(e, m, lb, &checks);
         total += res;
@@ -245,7 +247,7 @@ static int any_diverged(const dmodel *m)
 __attribute__((noinline)) int discrete_resolve(psim_sim *e, dmodel *m)
 {
     uint64_t rounds = 0, tasks = 0, total = 0;
-    const uint64_t budget = SETTLE_LIMIT * (m->step_contacts + (uint64_t)e->n);
+    const uint64_t budget = m->budget;
     int settled = 1;
     for (uint32_t ti = 0; ti < m->ntiles; ti++) {
         dtile *t = &m->tiles[ti];
@@ -280,5 +282,51 @@ __attribute__((noinline)) int discrete_resolve(psim_sim *e, dmodel *m)
     if (rounds > e->stats.counter[DC_MAX_ROUNDS])
         e->stats.counter[DC_MAX_ROUNDS] = rounds;
     e->stats.counter[DC_TASKS] += tasks;
+    if (total > e->stats.counter[DC_MAX_STEP_RES])
+        e->stats.counter[DC_MAX_STEP_RES] = total;
     return settled ? 0 : -1;
+}
+
+static void group_add(const psim_sim *e, dmodel *m, dgroup *g, int32_t i)
+{
+    if (m->flag[i])
+        return;
+    m->flag[i] = 1;
+    double x = e->st.x[i], y = e->st.y[i];
+    if (g->disks++ == 0) {
+        g->x0 = g->x1 = x;
+        g->y0 = g->y1 = y;
+        g->first_id = e->st.id[i];
+    }
+    g->x0 = x < g->x0 ? x : g->x0, g->x1 = x > g->x1 ? x : g->x1;
+    g->y0 = y < g->y0 ? y : g->y0, g->y1 = y > g->y1 ? y : g->y1;
+    if (e->st.id[i] < g->first_id)
+        g->first_id = e->st.id[i];
+}
+
+static void group_list(const psim_sim *e, dmodel *m, dgroup *g, const dlist *l)
+{
+    const double *x = e->st.x, *y = e->st.y, *vx = e->st.vx, *vy = e->st.vy;
+    for (size_t k = 0; k < l->n; k++) {
+        int32_t i = l->c[k].i, j = l->c[k].j;
+        double dot = psim_approach(x[j] - x[i], y[j] - y[i], vx[j] - vx[i], vy[j] - vy[i]);
+        if (psim_moving_closer(dot)) {
+            group_add(e, m, g, i);
+            group_add(e, m, g, j);
+        }
+    }
+}
+
+/* After a step gave up (serial; the flags are free again). */
+void discrete_unsettled(const psim_sim *e, dmodel *m, dgroup *g)
+{
+    *g = (dgroup){0};
+    memset(m->flag, 0, (size_t)e->n + 1);
+    for (uint32_t ti = 0; ti < m->ntiles; ti++) {
+        const dtile *t = &m->tiles[ti];
+        group_list(e, m, g, &t->in);
+        for (int d = 0; d < DIRS; d++)
+            group_list(e, m, g, &t->cross[d]);
+    }
+    memset(m->flag, 0, (size_t)e->n + 1);
 }
