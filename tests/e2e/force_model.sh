@@ -260,13 +260,13 @@ bad()
 bad 2 "not both" -n 100 "$tmp/scene.in"
 bad 2 "--seed needs -n" --seed 3
 bad 2 "--seed needs -n" --seed 3 "$tmp/scene.in"
-bad 1 "no option 'nosuch'" -n 10 --option nosuch=1
+bad 2 "no option 'nosuch'" -n 10 --option nosuch=1
 for o in dt mass cutoff skin naive stats; do
     [[ $FAIL_LINE == *"$o"* ]] || fail "the unknown-option message does not list '$o': $FAIL_LINE"
 done
-bad 1 "option dt: 'abc'" -n 10 --option dt=abc
-bad 1 "option dt" -n 10 --option dt=-1
-bad 1 "option mass" -n 10 --option mass=0
+bad 2 "option dt: 'abc'" -n 10 --option dt=abc
+bad 2 "option dt" -n 10 --option dt=-1
+bad 2 "option mass" -n 10 --option mass=0
 bad 2 "expected NAME=VALUE" -n 10 --option dt
 bad 1 "no initialisation of its own" --model discrete -n 10
 bad 1 "no initialisation of its own" --model ccd -n 10
