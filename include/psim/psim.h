@@ -143,6 +143,7 @@ enum {
 #define PSIM_PHASES_MAX 12
 #define PSIM_COUNTERS_MAX 16
 #define PSIM_VALUES_MAX 8
+#define PSIM_SKIPS_MAX 8
 
 typedef struct psim_stats {
     long steps;
@@ -160,6 +161,12 @@ typedef struct psim_stats {
     int nvalues;
     const char *value_name[PSIM_VALUES_MAX];
     double value[PSIM_VALUES_MAX];
+    /* Stages the model left out because the scene could not use them:
+     * the stage, why, and in how many steps it was left out. */
+    int nskips;
+    const char *skip_name[PSIM_SKIPS_MAX];
+    const char *skip_why[PSIM_SKIPS_MAX];
+    uint64_t skipped[PSIM_SKIPS_MAX];
     int grid_cells;          /* cells per side (0: the model uses no grid) */
     double cell_side;        /* side of a cell (> the model's reach) */
     int tile_cells;          /* cells per tile side */
@@ -186,6 +193,9 @@ uint64_t psim_counter(const psim_sim *s, const char *name);
 const char *psim_sim_model(const psim_sim *s);
 /* One line of per-step figures for the run summary (the model's). */
 void psim_print_step_summary(FILE *f, const psim_sim *s);
+/* The "left out:" line of the run summary: each stage the model left out,
+ * in how many steps and why (nothing when none was). */
+void psim_print_skips(FILE *f, const psim_sim *s);
 
 /* What one OpenMP thread did, per phase: time busy in its own work items
  * (a waiting thread is not busy), work items (tiles, tasks, chunks) and

@@ -371,6 +371,7 @@ static void print_summary(FILE *f, const run_opts *o, const psim_scene *sc,
             fprintf(f, " %s %.3f s", psim_phase_name(s, p), st->phase_s[p]);
     fputc('\n', f);
     psim_print_step_summary(f, s);
+    psim_print_skips(f, s);
     if (st->grid_cells > 0)
         fprintf(f, "  grid %d x %d cells of side %g, tiles of %d x %d cells (%d tiles)\n",
                 st->grid_cells, st->grid_cells, st->cell_side, st->tile_cells,

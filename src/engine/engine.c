@@ -65,6 +65,11 @@ static void name_stats(psim_stats *st, const psim_model *m)
     st->nvalues = 0;
     for (int k = 0; k < PSIM_VALUES_MAX && m->values[k]; k++)
         st->value_name[st->nvalues++] = m->values[k];
+    st->nskips = 0;
+    for (int k = 0; k < PSIM_SKIPS_MAX && m->skips[k].stage; k++) {
+        st->skip_name[st->nskips] = m->skips[k].stage;
+        st->skip_why[st->nskips++] = m->skips[k].why;
+    }
 }
 
 int psim_engine_grid(psim_sim *e, double reach, const double *bbox)
@@ -339,6 +344,22 @@ void psim_print_step_summary(FILE *f, const psim_sim *e)
         fprintf(f, "%s %.1f %s", k ? "," : "", (double)st->counter[k] / steps,
                 st->counter_name[k]);
     fputc('\n', f);
+}
+
+void psim_print_skips(FILE *f, const psim_sim *e)
+{
+    const psim_stats *st = &e->stats;
+    int any = 0;
+    for (int k = 0; k < st->nskips; k++) {
+        if (!st->skipped[k])
+            continue;
+        fprintf(f, "%s %s in %llu of %ld steps (%s)", any ? "," : "  left out:",
+                st->skip_name[k], (unsigned long long)st->skipped[k], st->steps,
+                st->skip_why[k]);
+        any = 1;
+    }
+    if (any)
+        fputc('\n', f);
 }
 
 int psim_write_output(psim_sim *e, FILE *f, long step, int final, int digits)

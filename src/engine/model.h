@@ -33,6 +33,11 @@ typedef struct psim_model_option {
     double lo, hi;
 } psim_model_option;
 
+/* A stage a model leaves out when the scene cannot use it (psim_stats). */
+typedef struct psim_model_skip {
+    const char *stage, *why;
+} psim_model_skip;
+
 typedef struct psim_model {
     const char *name;
     const char *summary;                          /* one line for psim models */
@@ -42,6 +47,7 @@ typedef struct psim_model {
     psim_output_style output;                     /* how its source prints */
     int output_digits;                            /* default decimals; -1: shortest */
     psim_model_option options[PSIM_MODEL_OPTIONS + 1]; /* name NULL ends them */
+    psim_model_skip skips[PSIM_SKIPS_MAX + 1];          /* stage NULL ends them */
     int sorts_itself;   /* the engine does not sort every step: the model
                          * calls psim_engine_sort when it needs to */
 

@@ -52,6 +52,11 @@ int psim_write_stats_json(FILE *f, const psim_sim *e, const char *scene_name,
             fprintf(f, ",\n  \"%s\": %.17g", s->value_name[k], s->value[k]);
         else
             fprintf(f, ",\n  \"%s\": null", s->value_name[k]);
+    fprintf(f, ",\n  \"left_out\": {");
+    for (int k = 0; k < s->nskips; k++)
+        fprintf(f, "%s\"%s\": %llu", k ? ", " : "", s->skip_name[k],
+                (unsigned long long)s->skipped[k]);
+    fprintf(f, "}");
     fprintf(f, "%s\n%s}\n", extra ? "," : "", extra ? extra : "");
     return ferror(f) ? -1 : 0;
 }

@@ -3,6 +3,7 @@
  * is seen once.  Pairs inside the tile go to its contact list (then a CSR by
  * disk for the worklist); pairs reaching a neighbour tile go to the list of
  * that direction, which the edge task of the two tiles reads. */
+#include <math.h>
 #include <string.h>
 
 #include "collide.h"
@@ -15,9 +16,11 @@ static const int half_stencil[4][2] = {{1, 0}, {-1, 1}, {0, 1}, {1, 1}};
 /* All pairs (i in cell ca, j in cell cb) at distance <= 2r, appended to
  * *to.  Room for every candidate is made first, so the append is
  * branch-free: the overlap test only decides whether the count advances. */
-static int scan_cells(const psim_sim *e, const dmodel *m, uint32_t ca,
-                      uint32_t cb, dlist *to, int same)
+static inline __attribute__((always_inline)) int
+scan_cells(const psim_sim *e, const dmodel *m, uint32_t ca, uint32_t cb, dlist *to, int same,
+           double *d2min, const int nearest_wanted)
 {
+    double nearest = *d2min;
     const psim_grid *g = &e->grid;
     const double *x = e->st.x, *y = e->st.y;
     const double four_r2 = m->four_r2;
@@ -37,12 +40,15 @@ static int scan_cells(const psim_sim *e, const dmodel *m, uint32_t ca,
             out = to->c;
         }
         for (uint32_t j = j0; j < b1; j++) {
-            double dx = x[j] - xi, dy = y[j] - yi;
+            double dx = x[j] - xi, dy = y[j] - yi, d2 = dx * dx + dy * dy;
             out[n] = (dcontact){(int32_t)i, (int32_t)j};
-            n += psim_overlaps(dx * dx + dy * dy, four_r2);
+            n += psim_overlaps(d2, four_r2);
+            if (nearest_wanted)   /* NaN: never a contact either */
+                nearest = d2 < nearest ? d2 : nearest;
         }
     }
     to->n = n;
+    *d2min = nearest;
     return 0;
 }
 
@@ -82,8 +88,9 @@ static void clear_lists(dlist *in, dlist *cross)
 }
 
 /* Search cells [c0, c1) of tile tid; pairs go to in / cross[direction]. */
-static int search_cells(const psim_sim *e, const dmodel *m, uint32_t tid, uint32_t c0,
-                        uint32_t c1, dlist *in, dlist *cross)
+static inline __attribute__((always_inline)) int
+search_cells(const psim_sim *e, const dmodel *m, uint32_t tid, uint32_t c0, uint32_t c1,
+             dlist *in, dlist *cross, double *d2min, const int nearest_wanted)
 {
     const psim_grid *g = &e->grid;
     int bad = 0;
@@ -91,7 +98,7 @@ static int search_cells(const psim_sim *e, const dmodel *m, uint32_t tid, uint32
     for (uint32_t c = c0; c < c1 && !bad; c++) {
         if (g->cellstart[c] == g->cellstart[c + 1])
             continue;
-        bad |= scan_cells(e, m, c, c, in, 1);
+        bad |= scan_cells(e, m, c, c, in, 1, d2min, nearest_wanted);
         int cx = g->cell_x[c], cy = g->cell_y[c];
         for (int k = 0; k < 4; k++) {
             int nx = cx + half_stencil[k][0], ny = cy + half_stencil[k][1];
@@ -102,7 +109,7 @@ static int search_cells(const psim_sim *e, const dmodel *m, uint32_t tid, uint32
                 continue;
             int dtx = (nx >> g->tile_shift) - tx, dty = (ny >> g->tile_shift) - ty;
             int d = (dtx + 1) + 3 * (dty + 1);
-            bad |= scan_cells(e, m, c, c2, d == 4 ? in : &cross[d], 0);
+            bad |= scan_cells(e, m, c, c2, d == 4 ? in : &cross[d], 0, d2min, nearest_wanted);
         }
     }
     return bad;
@@ -145,18 +152,26 @@ __attribute__((noinline)) void discrete_find_contacts(psim_sim *e, dmodel *m)
         m->tiles[t].p1 = g->cellstart[g->tile_cell0[t + 1]];
     }
     uint64_t found = 0;
+    const int nearest = m->fl.enabled && m->step_contacts == 0;
 #pragma omp parallel num_threads(e->threads) reduction(+ : found)
     {
 #pragma omp for schedule(dynamic, 1)
         for (uint32_t k = 0; k < m->nchunks; k++) {
             dchunk *ch = &m->chunks[k];
             clear_lists(&ch->in, ch->cross);
+            ch->d2min = INFINITY;
             uint32_t a = g->cellstart[ch->c0], b = g->cellstart[ch->c1];
             if (a == b)
                 continue; /* an empty region: no work */
             double t0 = psim_now();
-            ch->oom = (uint8_t)(search_cells(e, m, ch->tile, ch->c0, ch->c1, &ch->in,
-                                             ch->cross) != 0);
+            /* the nearest pair matters only where the search may find no
+             * contact: after one that found none (flight.c) */
+            int bad = nearest
+                          ? search_cells(e, m, ch->tile, ch->c0, ch->c1, &ch->in, ch->cross,
+                                         &ch->d2min, 1)
+                          : search_cells(e, m, ch->tile, ch->c0, ch->c1, &ch->in, ch->cross,
+                                         &ch->d2min, 0);
+            ch->oom = (uint8_t)(bad != 0);
             psim_tstat_add(e->tstats, DPHASE_CONTACTS, psim_now() - t0, 1, b - a);
         }
 #pragma omp for schedule(dynamic, 1)
@@ -176,4 +191,7 @@ __attribute__((noinline)) void discrete_find_contacts(psim_sim *e, dmodel *m)
     }
     e->stats.counter[DC_CONTACTS] += found;
     m->step_contacts = found;
+    m->d2min = nearest ? INFINITY : 0;
+    for (uint32_t k = 0; k < m->nchunks; k++)
+        m->d2min = m->chunks[k].d2min < m->d2min ? m->chunks[k].d2min : m->d2min;
 }

@@ -121,6 +121,10 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
     m->four_r2 = 4.0 * e->r * e->r;
     double settle = psim_engine_option(e, "settle", SETTLE_DEFAULT);
     m->budget = (uint64_t)(settle * (double)(e->n > 0 ? e->n : 1));
+    m->fl.enabled = psim_engine_option(e, "skip", 1) != 0;
+    m->fl.gap = -1;
+    m->fl.walls = 1;
+    m->fl.quiet = 1;   /* the first drift looks at the velocities */
     m->tiles = psim_calloc(m->ntiles * sizeof *m->tiles);
     m->active = psim_calloc((size_t)e->n + 1);
     m->flag = psim_calloc((size_t)e->n + 1);
@@ -135,29 +139,18 @@ oom:
     return NULL;
 }
 
-__attribute__((noinline)) static void drift(psim_sim *e, void *p)
-{
-    (void)p;
-    psim_store *s = &e->st;
-    const long n = e->n;
-#pragma omp parallel num_threads(e->threads)
-    {
-        double t0 = psim_now();
-        int T = omp_get_num_threads(), k = omp_get_thread_num();
-        long lo = (long)psim_part_lo((size_t)n, T, k), hi = (long)psim_part_lo((size_t)n, T, k + 1);
-#pragma omp simd
-        for (long i = lo; i < hi; i++) {
-            s->x[i] += s->vx[i];
-            s->y[i] += s->vy[i];
-        }
-        psim_tstat_add(e->tstats, PSIM_PHASE_MOVE, psim_now() - t0, 1, (uint64_t)(hi - lo));
-    }
-}
-
 static int interact(psim_sim *e, void *p, psim_error *err)
 {
     dmodel *m = p;
+    if (discrete_free_flight(e, m)) {
+        m->fl.quiet = 1;
+        if (m->fl.walls)
+            PSIM_TIMED(e, DPHASE_RESOLVE, discrete_walls_only(e, m));
+        return 0;
+    }
+    psim_engine_sort(e);
     PSIM_TIMED(e, DPHASE_CONTACTS, discrete_find_contacts(e, m));
+    discrete_flight_searched(e, m);
     for (uint32_t t = 0; t < m->ntiles; t++)
         if (m->tiles[t].oom) {
             psim_error_set(err, "out of memory for contacts at step %ld",
@@ -201,12 +194,17 @@ const psim_model psim_model_discrete = {
                  "wall_resolutions", "tasks", "max_step_resolutions", NULL},
     .options = {{"settle", "resolutions a step may take per disk before the run stops "
                            "(default 1000)", 1, 1e9},
+                {"skip", "0: never leave out a stage the scene cannot use (for tests)", 0, 1},
                 {NULL, NULL, 0, 0}},
+    .skips = {[DS_SEARCH] = {"search", "no pair could meet: sort, contacts, resolution"},
+              [DS_WALLS] = {"walls", "no disk could reach a wall"},
+              [DS_MOVE] = {"move", "nothing moves"}},
+    .sorts_itself = 1,
     .output = {.final = 1},
     .output_digits = -1,
     .step_summary = step_summary,
     .create = create,
-    .drift = drift,
+    .drift = discrete_drift,
     .interact = interact,
     .check = discrete_check,
     .destroy = destroy,

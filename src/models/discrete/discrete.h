@@ -73,6 +73,7 @@ typedef struct __attribute__((aligned(64))) dchunk {
     uint32_t tile, c0, c1;      /* cells [c0, c1) of tile */
     dlist in;
     dlist cross[DIRS];
+    double d2min;               /* nearest pair seen (squared distance) */
     uint8_t oom;
 } dchunk;
 
@@ -80,6 +81,24 @@ typedef struct dedge {
     uint32_t a, b;  /* tiles: b is a's neighbour in direction dir */
     int dir;
 } dedge;
+
+/* The model's skips (psim_stats.skipped), in the order of .skips. */
+enum { DS_SEARCH, DS_WALLS, DS_MOVE };
+
+/* Free flight: what the drift saw and what the last search left. */
+typedef struct dflight {
+    int enabled;                /* --option skip (default 1) */
+    double pmin[2], pmax[2];    /* positions after this step's drift */
+    double vmin[2], vmax[2];    /* velocities it used */
+    int nonfinite;              /* a velocity was NaN or infinite, or the
+                                 * drift did not look at them */
+    int quiet;                  /* the last step changed no velocity */
+    int measured;               /* this step's drift measured the extents */
+    double gap;                 /* every pair is more than 2r + gap apart
+                                 * after the last drift (< 0: unknown) */
+    int walls;                  /* a disk may reach a wall this step */
+    int resting;                /* every velocity is 0 for good */
+} dflight;
 
 typedef struct dmodel {
     uint32_t ntiles;
@@ -96,6 +115,8 @@ typedef struct dmodel {
     double four_r2;
     uint64_t step_contacts;  /* contacts found this step */
     uint64_t budget;         /* resolutions a step may take (settle x n) */
+    double d2min;            /* nearest pair the last search saw, squared */
+    dflight fl;              /* what the scene can use this step (flight.c) */
 } dmodel;
 
 /* A step's collisions must settle within this many resolutions (pair and
@@ -116,6 +137,15 @@ typedef struct dgroup {
 } dgroup;
 
 void discrete_find_contacts(psim_sim *e, dmodel *m);
+/* flight.c: the drift with its extents, and the step's choice. */
+void discrete_drift(psim_sim *e, void *m);
+/* Returns 1 when no pair can be in contact after this drift (the search
+ * is left out), 0 when the search must run. */
+int discrete_free_flight(psim_sim *e, dmodel *m);
+/* After a search with no contact: the gap it leaves. */
+void discrete_flight_searched(const psim_sim *e, dmodel *m);
+/* Wall resolutions alone, when no pair is in contact. */
+void discrete_walls_only(psim_sim *e, dmodel *m);
 void discrete_unsettled(const psim_sim *e, dmodel *m, dgroup *g);
 /* Returns 0, or -1 when collisions did not settle (m->budget). */
 int discrete_resolve(psim_sim *e, dmodel *m);

@@ -45,7 +45,7 @@ static void tile_task(const psim_sim *e, dmodel *m, dtile *t, int first)
     double *restrict vx = e->st.vx, *restrict vy = e->st.vy;
     const double *x = e->st.x, *y = e->st.y;
     const double L = e->L, r = e->r;
-    const int walls = e->grid.tile_wall[t - m->tiles];
+    const int walls = e->grid.tile_wall[t - m->tiles] && m->fl.walls;
     uint8_t *restrict flag = m->flag, *act = m->active;
     wl w = {t->queue, t->p1 - t->p0, 0, 0};
     uint64_t checks = 0, pres = 0, wres = 0;
@@ -284,6 +284,7 @@ __attribute__((noinline)) int discrete_resolve(psim_sim *e, dmodel *m)
     e->stats.counter[DC_TASKS] += tasks;
     if (total > e->stats.counter[DC_MAX_STEP_RES])
         e->stats.counter[DC_MAX_STEP_RES] = total;
+    m->fl.quiet = total == 0;
     return settled ? 0 : -1;
 }
 

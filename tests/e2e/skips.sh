@@ -1,0 +1,77 @@
+#!/usr/bin/env bash
+# Stages left out where the scene cannot use them (docs/design.md, "Left
+# out"): each skip must happen where it applies (--stats left_out) and never
+# change a result: the same bytes as --option skip=0, at 1 and 3 threads.
+set -euo pipefail
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+source "$(dirname "$0")/lib.sh" "$@"
+
+python3 - "$tmp" <<'PY'
+import random, sys
+d = sys.argv[1]
+def write(name, L, r, S, pts):
+    with open(f"{d}/{name}.in", "w") as f:
+        f.write(f"{len(pts)}\n{L}\n{r}\n{S}\n")
+        for i, (x, y, vx, vy) in enumerate(pts):
+            f.write(f"{i} {x!r} {y!r} {vx!r} {vy!r}\n")
+random.seed(4)
+# a dilute lattice: no pair meets and no disk reaches a wall in the run
+write("dilute", 800, 1, 200, [(10 + 20 * (k % 40) + random.uniform(-1, 1),
+                               10 + 20 * (k // 40) + random.uniform(-1, 1),
+                               random.uniform(-0.02, 0.02), random.uniform(-0.02, 0.02))
+                              for k in range(1600)])
+# at rest, overlapping (contacts that never approach); -0.0 positions too
+write("resting", 60, 1, 50, [(random.uniform(1, 59), random.uniform(1, 59), 0.0, 0.0)
+                             for k in range(400)] + [(-0.0, 30.0, 0.0, -0.0)])
+# a packed cluster moving as one, far from the walls
+write("comoving", 400, 1, 100, [(100 + 2.5 * (k % 30), 100 + 2.5 * (k // 30), 0.3, -0.2)
+                                for k in range(900)])
+# two disks that meet at step 49 after free flight, then walls at about 147
+write("approach", 200, 1, 160, [(50.5, 100.0, 1.0, 0.0), (150.0, 100.25, -1.0, 0.0)])
+# free flight into the walls: a dilute gas bouncing in a small box
+write("bouncing", 100, 0.5, 150, [(5 + 10 * (k % 10), 5 + 10 * (k // 10),
+                                   random.uniform(-0.05, 0.05), random.uniform(-0.05, 0.05))
+                                  for k in range(100)])
+# two velocities of 1e300 among slow ones: nothing can be left out
+write("nonfinite", 800, 1, 20, [(10 + 20 * (k % 40), 10 + 20 * (k // 40),
+                                 1e300 if k == 7 else -1e300 if k == 9 else 0.01,
+                                 0.0) for k in range(400)])
+PY
+
+# left_out KEY of the stats file
+left_out() { python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['left_out'][sys.argv[2]])" "$1" "$2"; }
+counter() { python3 -c "import json,sys; print(json.load(open(sys.argv[1]))[sys.argv[2]])" "$1" "$2"; }
+
+for s in dilute resting comoving approach bouncing nonfinite; do
+    run_ok "$PSIM" -q -O skip=0 --threads 1 --final "$tmp/$s.ref" "$tmp/$s.in"
+    for t in 1 3; do
+        run_ok "$PSIM" -q --threads "$t" --final "$tmp/$s.$t" --stats "$tmp/$s.$t.json" "$tmp/$s.in"
+        same_file "$tmp/$s.ref" "$tmp/$s.$t" "$s at $t threads, with and without skips"
+    done
+    # without skips, nothing is left out
+    run_ok "$PSIM" -q -O skip=0 --stats "$tmp/$s.noskip.json" "$tmp/$s.in"
+    for k in search walls move; do
+        [[ $(left_out "$tmp/$s.noskip.json" $k) == 0 ]] || fail "$s: skip=0 left out $k"
+    done
+done
+j=$tmp/dilute.1.json
+[[ $(left_out "$j" search) == 199 && $(left_out "$j" walls) == 200 && $(left_out "$j" move) == 0 ]] ||
+    fail "dilute: expected search 199, walls 200, move 0: $(grep -A0 left_out "$j")"
+j=$tmp/resting.1.json
+[[ $(left_out "$j" move) == 49 && $(left_out "$j" search) == 49 ]] ||
+    fail "resting: expected move and search left out in 49 of 50 steps: $(grep left_out "$j")"
+j=$tmp/comoving.1.json
+[[ $(left_out "$j" search) == 99 ]] || fail "comoving: expected search left out in 99 steps: $(grep left_out "$j")"
+j=$tmp/approach.1.json
+s=$(left_out "$j" search)
+((s > 30 && s < 160)) || fail "approach: search left out in $s steps"
+(($(counter "$j" pair_resolutions) == 1 && $(counter "$j" wall_resolutions) >= 2)) ||
+    fail "approach: the pair should meet once and both reach a wall: $(cat "$j")"
+j=$tmp/bouncing.1.json
+(($(left_out "$j" search) > 100 && $(counter "$j" wall_resolutions) > 0)) ||
+    fail "bouncing: free flight with wall bounces expected: $(grep -E 'left_out|wall_res' "$j")"
+[[ $(left_out "$tmp/nonfinite.1.json" search) == 0 ]] || fail "nonfinite velocities must not skip the search"
+
+# the run summary names what was left out
+"$PSIM" "$tmp/dilute.in" | grep -q "left out: search in 199 of 200 steps" || fail "no 'left out' line in the summary"
+echo "skips: ok"
