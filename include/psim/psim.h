@@ -126,6 +126,8 @@ typedef struct psim_config {
     int tile_cells;     /* cells per tile side (power of two); 0: automatic */
     int check;          /* validate every step (the course's checks) */
     const char *options; /* the model's options, "KEY=VALUE,KEY=VALUE" */
+    long steps;         /* steps the run will take; 0: none, so no grid is
+                         * built (-1: unknown, the default) */
 } psim_config;
 
 void psim_config_default(psim_config *cfg);

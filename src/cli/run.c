@@ -487,6 +487,7 @@ int cli_run(int argc, char **argv)
     cfg.tile_cells = (int)o.tile;
     cfg.check = o.check;
     cfg.options = o.options;
+    cfg.steps = steps;
     s = psim_create(&sc, &cfg, &err);
     if (!s) {
         fprintf(stderr, "psim: %s\n", err.msg);

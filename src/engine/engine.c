@@ -26,6 +26,7 @@ void psim_error_set(psim_error *err, const char *fmt, ...)
 void psim_config_default(psim_config *cfg)
 {
     memset(cfg, 0, sizeof *cfg);
+    cfg->steps = -1;
 }
 
 const char *psim_phase_name(const psim_sim *e, int p)
@@ -82,12 +83,14 @@ int psim_engine_grid_occ(psim_sim *e, double reach, const double *bbox, double o
     psim_sorter_free(&e->sorter);
     psim_grid_free(&e->grid);
     e->has_grid = 0;
+    if (e->cfg.steps == 0)   /* no step will use it: one cell, never sorted */
+        occupancy = INFINITY;
     if (psim_grid_init_occ(&e->grid, e->L, e->r, reach, e->n, e->cfg.tile_cells, bbox,
                            occupancy) ||
         psim_sorter_init(&e->sorter, e->threads, e->grid.ncells))
         return -1;
-    e->has_grid = 1;
-    e->stats.grid_cells = e->grid.G;
+    e->has_grid = e->cfg.steps != 0;
+    e->stats.grid_cells = e->has_grid ? e->grid.G : 0;
     e->stats.cell_side = e->grid.h;
     e->stats.tile_cells = 1 << e->grid.tile_shift;
     e->stats.tiles = (int)e->grid.ntiles;

@@ -72,6 +72,26 @@ j=$tmp/bouncing.1.json
     fail "bouncing: free flight with wall bounces expected: $(grep -E 'left_out|wall_res' "$j")"
 [[ $(left_out "$tmp/nonfinite.1.json" search) == 0 ]] || fail "nonfinite velocities must not skip the search"
 
+# one thread: the resolution runs its tasks in order, without a task graph
+j=$tmp/approach.1.json
+[[ $(left_out "$j" task_graph) == $((160 - $(left_out "$j" search))) && $(left_out "$tmp/approach.3.json" task_graph) == 0 ]] ||
+    fail "task_graph should be left out in every searched step at 1 thread only"
+
+# no steps: no grid for any model, and the state is the scene's
+for m in discrete ccd force event; do
+    run_ok "$PSIM" -q --model "$m" --steps 0 --digits 8 -o "$tmp/zero.$m.out" --final "$tmp/zero.$m" \
+        --stats "$tmp/zero.$m.json" "$tmp/dilute.in"
+    [[ $(counter "$tmp/zero.$m.json" grid_cells) == 0 ]] || fail "$m: a grid was built for 0 steps"
+    [[ $m == discrete ]] || same_file "$tmp/zero.discrete" "$tmp/zero.$m" "$m, 0 steps"
+done
+run_ok "$PSIM" -q --steps 0 --final "$tmp/zero.exact" "$tmp/dilute.in"
+python3 - "$tmp/dilute.in" "$tmp/zero.exact" <<'PY' || fail "0 steps should write the scene's state"
+import sys
+a = [list(map(float, l.split())) for l in open(sys.argv[1]).read().splitlines()[4:]]
+b = [list(map(float, l.split()[1:])) for l in open(sys.argv[2])]
+sys.exit(a != b)
+PY
+
 # the run summary names what was left out
 "$PSIM" "$tmp/dilute.in" | grep -q "left out: search in 199 of 200 steps" || fail "no 'left out' line in the summary"
 echo "skips: ok"

@@ -83,7 +83,7 @@ typedef struct dedge {
 } dedge;
 
 /* The model's skips (psim_stats.skipped), in the order of .skips. */
-enum { DS_SEARCH, DS_WALLS, DS_MOVE };
+enum { DS_SEARCH, DS_WALLS, DS_MOVE, DS_GRAPH };
 
 /* Free flight: what the drift saw and what the last search left. */
 typedef struct dflight {

@@ -183,10 +183,27 @@ static int edge_may_change(const dmodel *m, const dedge *ed, int first)
            b->changed_cross_prev;
 }
 
-/* Emit one round's task graph; returns the number of tasks. */
+static void timed_tile(const psim_sim *e, dmodel *m, dtile *t, int first)
+{
+    double t0 = psim_now();
+    tile_task(e, m, t, first);
+    psim_tstat_add(e->tstats, DPHASE_RESOLVE, psim_now() - t0, 1, t->p1 - t->p0);
+}
+
+static void timed_edge(const psim_sim *e, dmodel *m, size_t k, int first)
+{
+    double t0 = psim_now();
+    edge_task(e, m, k, first);
+    psim_tstat_add(e->tstats, DPHASE_RESOLVE, psim_now() - t0, 1, 0);
+}
+
+/* Emit one round's task graph (with one thread, run its tasks in creation
+ * order, which the dependences allow: no graph); returns the number of
+ * work items. */
 static uint64_t emit_round(const psim_sim *e, dmodel *m, int first)
 {
     uint64_t tasks = 0;
+    const int graph = e->threads > 1;
     for (uint32_t ti = 0; ti < m->ntiles; ti++) {
         dtile *t = &m->tiles[ti];
         t->changed_inner = 0;
@@ -198,12 +215,12 @@ static uint64_t emit_round(const psim_sim *e, dmodel *m, int first)
         if (!t->scheduled)
             continue;
         tasks++;
-#pragma omp task default(none) firstprivate(e, m, t, first) depend(inout : m->dep[ti])
-        {
-            double t0 = psim_now();
-            tile_task(e, m, t, first);
-            psim_tstat_add(e->tstats, DPHASE_RESOLVE, psim_now() - t0, 1, t->p1 - t->p0);
+        if (!graph) {
+            timed_tile(e, m, t, first);
+            continue;
         }
+#pragma omp task default(none) firstprivate(e, m, t, first) depend(inout : m->dep[ti])
+        timed_tile(e, m, t, first);
     }
     for (size_t k = 0; k < m->nedges; k++) {
         const dedge *ed = &m->edges[k];
@@ -211,13 +228,13 @@ static uint64_t emit_round(const psim_sim *e, dmodel *m, int first)
         if (!edge_has_work(m, ed) || !edge_may_change(m, ed, first))
             continue;
         tasks++;
+        if (!graph) {
+            timed_edge(e, m, k, first);
+            continue;
+        }
 #pragma omp task default(none) firstprivate(e, m, k, first) \
     depend(inout : m->dep[ed->a]) depend(inout : m->dep[ed->b])
-        {
-            double t0 = psim_now();
-            edge_task(e, m, k, first);
-            psim_tstat_add(e->tstats, DPHASE_RESOLVE, psim_now() - t0, 1, 0);
-        }
+        timed_edge(e, m, k, first);
     }
     return tasks;
 }
@@ -255,7 +272,7 @@ __attribute__((noinline)) int discrete_resolve(psim_sim *e, dmodel *m)
         t->has_active = t->changed_cross_prev = t->changed_cross_cur = 0;
         t->diverged = 0;
     }
-#pragma omp parallel num_threads(e->threads)
+#pragma omp parallel num_threads(e->threads) if (e->threads > 1)
 #pragma omp single
     {
         for (int first = 1;; first = 0) {
@@ -282,6 +299,7 @@ __attribute__((noinline)) int discrete_resolve(psim_sim *e, dmodel *m)
     if (rounds > e->stats.counter[DC_MAX_ROUNDS])
         e->stats.counter[DC_MAX_ROUNDS] = rounds;
     e->stats.counter[DC_TASKS] += tasks;
+    e->stats.skipped[DS_GRAPH] += e->threads == 1;
     if (total > e->stats.counter[DC_MAX_STEP_RES])
         e->stats.counter[DC_MAX_STEP_RES] = total;
     m->fl.quiet = total == 0;
