@@ -183,6 +183,9 @@ psim_sim *psim_create(const psim_scene *sc, const psim_config *cfg,
  * collisions that do not settle, or no memory for the contacts. */
 int psim_step(psim_sim *s, psim_error *err);
 long psim_step_index(const psim_sim *s);   /* steps done so far */
+/* 0, or -1 with err naming the step and the lowest id whose position or
+ * velocity is NaN or infinite (checked before any state is written). */
+int psim_state_finite(const psim_sim *s, psim_error *err);
 long psim_count(const psim_sim *s);
 /* Current state by id; any pointer may be NULL. */
 void psim_get_state(const psim_sim *s, double *x, double *y, double *vx,

@@ -436,12 +436,18 @@ static int simulate(const run_opts *o, psim_sim *s, long steps, run_state *rs,
         psim_error_set(err, "%s: write failed", rs->out.name);
         rc = -1;
     }
+    /* states that are written every step are checked every step; the
+     * final one in any case */
+    const int each = rs->trace.f || rs->print;
     for (long k = 1; k <= steps && rc == 0; k++) {
-        if (psim_step(s, err) || write_step(o, s, k, steps, rs, err))
+        if (psim_step(s, err) || (each && psim_state_finite(s, err)) ||
+            write_step(o, s, k, steps, rs, err))
             rc = -1;
         else
             progress_update(&pb, k);
     }
+    if (rc == 0 && !each && psim_state_finite(s, err))
+        rc = -1;
     progress_done(&pb); /* also on failure: the error line starts clean */
     return rc;
 }

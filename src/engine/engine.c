@@ -1,6 +1,7 @@
 #include "engine.h"
 
 #include <errno.h>
+#include <float.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -316,6 +317,23 @@ int psim_step(psim_sim *e, psim_error *err)
             return -1;
     }
     return 0;
+}
+
+int psim_state_finite(const psim_sim *e, psim_error *err)
+{
+    const psim_store *s = &e->st;
+    size_t bad = s->n;
+    for (size_t k = 0; k < s->n; k++)
+        if (!(fabs(s->x[k]) <= DBL_MAX && fabs(s->y[k]) <= DBL_MAX &&
+              fabs(s->vx[k]) <= DBL_MAX && fabs(s->vy[k]) <= DBL_MAX) &&
+            (bad == s->n || s->id[k] < s->id[bad]))
+            bad = k;
+    if (bad == s->n)
+        return 0;
+    psim_error_set(err, "step %ld: disk %d is no longer finite (x %g, y %g, vx %g, vy %g): "
+                        "the numbers overflowed, so no state is written",
+                   e->step, s->id[bad], s->x[bad], s->y[bad], s->vx[bad], s->vy[bad]);
+    return -1;
 }
 
 long psim_step_index(const psim_sim *e) { return e->step; }

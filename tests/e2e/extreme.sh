@@ -91,4 +91,15 @@ for scene in cluster outside; do
     python3 -c "import json,sys; h = json.load(open(sys.argv[1]))['cell_side']; sys.exit(0 if h < 10 else 1)" \
         "$tmp/$scene.json" || fail "$scene: the grid does not follow the disks"
 done
+# a velocity of 1e300: the event model refuses (1e298 wall events a step);
+# a state that overflows is never written: the run stops naming the disk
+printf '2\n100\n1\n20\n0 50 50 1e300 0\n1 20 20 0 0\n' > "$tmp/huge_v.in"
+expect_fail --rc 1 "disk 0 moves 1e+300 a step" "$PSIM" --quiet --model event --final "$tmp/hv.out" "$tmp/huge_v.in"
+[[ ! -e $tmp/hv.out ]] || fail "a refused run left $tmp/hv.out"
+# (checked every step when every step is written, else at the end)
+printf '2\n100\n1\n20\n0 1.7e308 50 1.7e308 0\n1 20 20 0 0\n' > "$tmp/overflow.in"
+expect_fail --rc 1 "step 1: disk 0 is no longer finite (x inf" "$PSIM" --quiet \
+    --trace "$tmp/of.trace" --final "$tmp/of.out" "$tmp/overflow.in"
+expect_fail --rc 1 "step 20: disk 0 is no longer finite" "$PSIM" --quiet --final "$tmp/of.out" "$tmp/overflow.in"
+[[ ! -e $tmp/of.out && ! -e $tmp/of.trace ]] || fail "an overflowed run left an output"
 echo "extreme: ok"

@@ -83,6 +83,31 @@ static double kinetic(const emodel *m)
     return k / 2;
 }
 
+/* The run's wall events alone, at today's speeds, must stay countable:
+ * a disk at 1e300 a step would hit the walls 1e298 times a step, and the
+ * run would never end.  Refuse it, naming the fastest disk. */
+#define EVENT_RUN_LIMIT 1e12
+
+static int too_many_events(const psim_sim *e, const emodel *m, psim_error *err)
+{
+    double w = m->hi - m->lo, rate = 0, fastest = 0;
+    long who = 0;
+    for (long i = 0; i < m->n; i++) {
+        double v = fabs(m->d[i].vx) + fabs(m->d[i].vy);
+        rate += v / w;
+        if (v > fastest)
+            fastest = v, who = i;
+    }
+    double steps = e->cfg.steps > 0 ? (double)e->cfg.steps : 1.0;
+    if (!(rate * steps > EVENT_RUN_LIMIT) && isfinite(rate))
+        return 0;
+    psim_error_set(err, "disk %ld moves %g a step between walls %g apart: about %.3g wall "
+                        "events in %.0f steps, more than the event model can run (%g); the "
+                        "discrete and ccd models take such speeds",
+                   who, fastest, w, rate * steps, steps, EVENT_RUN_LIMIT);
+    return 1;
+}
+
 static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
 {
     emodel *m = calloc(1, sizeof *m);
@@ -116,6 +141,10 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
                             "2r = %g (the event model needs a scene without overlaps: psim "
                             "gen --place nonoverlap or lattice)",
                        at, i, j, also, d, 2 * m->r);
+        destroy(m);
+        return NULL;
+    }
+    if (too_many_events(e, m, err)) {
         destroy(m);
         return NULL;
     }
