@@ -2,8 +2,8 @@
  *
  * The drift can measure, in the same pass, the extent of the new positions
  * and of the velocities it used; it does so only when a skip may follow (a
- * gap left by the last search, or a step that changed no velocity), so a
- * dense scene pays nothing.  From them:
+ * gap left by the last search, a search that found no contact, or a step
+ * that changed no velocity), so a dense scene pays nothing.  From them:
  *   - search: a search that finds no contact also gives the nearest pair it
  *     saw, D (pairs in cells that are not neighbours are at least a cell
  *     side h apart, so min(D, h) bounds every pair).  Every velocity is
@@ -96,9 +96,10 @@ __attribute__((noinline)) void discrete_drift(psim_sim *e, void *p)
     dflight *f = &m->fl;
     if (f->resting)
         return;
-    /* the velocities matter when a skip may follow: a gap to spend, or a
-     * step that changed no velocity (a scene at rest) */
-    const int velocities = f->enabled && (f->gap >= 0 || f->quiet);
+    /* the extents matter when a skip may follow: a gap to spend, a search
+     * that found no contact (it leaves a gap), or a step that changed no
+     * velocity (a scene at rest) */
+    const int velocities = f->enabled && (f->gap >= 0 || f->quiet || m->step_contacts == 0);
     extent all;
     extent_init(&all);
     psim_store *s = &e->st;
@@ -132,14 +133,19 @@ __attribute__((noinline)) void discrete_drift(psim_sim *e, void *p)
     f->measured = velocities;
 }
 
-/* How much closer any pair can have come in this step's drift, with a
- * margin for the rounding of positions as large as the scene's. */
+/* The rounding of a position as large as the scene's largest. */
+static double rounding(const dflight *f)
+{
+    double scale = fmax(fmax(fabs(f->pmin[0]), fabs(f->pmax[0])),
+                        fmax(fabs(f->pmin[1]), fabs(f->pmax[1])));
+    return 16 * DBL_EPSILON * scale;
+}
+
+/* How much closer any pair can have come in this step's drift. */
 static double closing(const dflight *f)
 {
     double hx = 0.5 * (f->vmax[0] - f->vmin[0]), hy = 0.5 * (f->vmax[1] - f->vmin[1]);
-    double scale = fmax(fmax(fabs(f->pmin[0]), fabs(f->pmax[0])),
-                        fmax(fabs(f->pmin[1]), fabs(f->pmax[1])));
-    return 2.0 * sqrt(hx * hx + hy * hy) * (1 + 1e-12) + 16 * DBL_EPSILON * scale;
+    return 2.0 * sqrt(hx * hx + hy * hy) * (1 + 1e-12) + rounding(f);
 }
 
 static int all_inside(const dflight *f, double L, double r)
@@ -177,18 +183,14 @@ int discrete_free_flight(psim_sim *e, dmodel *m)
 void discrete_flight_searched(const psim_sim *e, dmodel *m)
 {
     dflight *f = &m->fl;
-    if (!f->enabled || m->step_contacts)
+    if (!f->enabled || !f->measured || m->step_contacts)
         return;
     double d = fmin(sqrt(m->d2min), e->grid.h);
-    double scale = fmax(fmax(fabs(f->pmin[0]), fabs(f->pmax[0])),
-                        fmax(fabs(f->pmin[1]), fabs(f->pmax[1])));
-    f->gap = d * (1 - 1e-12) - 2 * e->r * (1 + 1e-12) - 16 * DBL_EPSILON * scale;
+    f->gap = d * (1 - 1e-12) - 2 * e->r * (1 + 1e-12) - rounding(f);
 }
 
 void discrete_walls_only(psim_sim *e, dmodel *m)
 {
-    if (!m->fl.walls || m->fl.resting)
-        return;
     psim_store *s = &e->st;
     const long n = e->n;
     const double L = e->L, r = e->r;
