@@ -85,13 +85,19 @@ typedef struct dedge {
 /* The model's skips (psim_stats.skipped), in the order of .skips. */
 enum { DS_SEARCH, DS_WALLS, DS_MOVE, DS_GRAPH };
 
+/* What a drift saw: the extent of the positions after it and of the
+ * velocities it used. */
+typedef struct dextent {
+    double pmin[2], pmax[2];
+    double vmin[2], vmax[2];
+    int nonfinite;              /* a velocity was NaN or infinite, or the
+                                 * drift did not look at them */
+} dextent;
+
 /* Free flight: what the drift saw and what the last search left. */
 typedef struct dflight {
     int enabled;                /* --option skip (default 1) */
-    double pmin[2], pmax[2];    /* positions after this step's drift */
-    double vmin[2], vmax[2];    /* velocities it used */
-    int nonfinite;              /* a velocity was NaN or infinite, or the
-                                 * drift did not look at them */
+    dextent ext;                /* this step's drift */
     int quiet;                  /* the last step changed no velocity */
     int measured;               /* this step's drift measured the extents */
     double gap;                 /* every pair is more than 2r + gap apart
@@ -121,7 +127,7 @@ typedef struct dmodel {
 
 /* A step's collisions must settle within this many resolutions (pair and
  * wall) per disk, on average over the scene (--option settle=K).  The
- * course's dense scenes need at most about 30 (docs/stability.md).  Past
+ * course's dense scenes need at most about 60 (docs/stability.md).  Past
  * it the fixpoint is taken not to converge and the run stops with an error
  * naming the disks that still approach, instead of hanging: the budget
  * grows with the disks, not with their contacts, so 2000 disks piled on
@@ -146,6 +152,9 @@ int discrete_free_flight(psim_sim *e, dmodel *m);
 void discrete_flight_searched(const psim_sim *e, dmodel *m);
 /* Wall resolutions alone, when no pair is in contact. */
 void discrete_walls_only(psim_sim *e, dmodel *m);
+/* A step resolved `total` collisions: the largest step, and whether it
+ * changed no velocity. */
+void discrete_step_resolved(psim_sim *e, dmodel *m, uint64_t total);
 void discrete_unsettled(const psim_sim *e, dmodel *m, dgroup *g);
 /* Returns 0, or -1 when collisions did not settle (m->budget). */
 int discrete_resolve(psim_sim *e, dmodel *m);

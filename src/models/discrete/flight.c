@@ -32,12 +32,7 @@
 #include "discrete.h"
 #include "../../engine/tstats.h"
 
-typedef struct extent {
-    double pmin[2], pmax[2], vmin[2], vmax[2];
-    int nonfinite;
-} extent;
-
-static void extent_init(extent *x)
+static void extent_init(dextent *x)
 {
     for (int a = 0; a < 2; a++) {
         x->pmin[a] = x->vmin[a] = INFINITY;
@@ -46,7 +41,7 @@ static void extent_init(extent *x)
     x->nonfinite = 0;
 }
 
-static void extent_merge(extent *to, const extent *from)
+static void extent_merge(dextent *to, const dextent *from)
 {
     for (int a = 0; a < 2; a++) {
         to->pmin[a] = fmin(to->pmin[a], from->pmin[a]);
@@ -58,7 +53,7 @@ static void extent_merge(extent *to, const extent *from)
 }
 
 /* Move disks [lo, hi) and measure where they went. */
-static void drift_range(psim_store *s, long lo, long hi, extent *x)
+static void drift_range(psim_store *s, long lo, long hi, dextent *x)
 {
     double *restrict px = s->x, *restrict py = s->y;
     const double *restrict vx = s->vx, *restrict vy = s->vy;
@@ -75,7 +70,7 @@ static void drift_range(psim_store *s, long lo, long hi, extent *x)
 }
 
 /* The extent of the velocities of disks [lo, hi). */
-static void velocity_range(const psim_store *s, long lo, long hi, extent *x)
+static void velocity_range(const psim_store *s, long lo, long hi, dextent *x)
 {
     const double *restrict vx = s->vx, *restrict vy = s->vy;
     double u0 = INFINITY, u1 = -INFINITY, w0 = INFINITY, w1 = -INFINITY;
@@ -100,7 +95,7 @@ __attribute__((noinline)) void discrete_drift(psim_sim *e, void *p)
      * that found no contact (it leaves a gap), or a step that changed no
      * velocity (a scene at rest) */
     const int velocities = f->enabled && (f->gap >= 0 || f->quiet || m->step_contacts == 0);
-    extent all;
+    dextent all;
     extent_init(&all);
     psim_store *s = &e->st;
     const long n = e->n;
@@ -109,7 +104,7 @@ __attribute__((noinline)) void discrete_drift(psim_sim *e, void *p)
         double t0 = psim_now();
         int T = omp_get_num_threads(), k = omp_get_thread_num();
         long lo = (long)psim_part_lo((size_t)n, T, k), hi = (long)psim_part_lo((size_t)n, T, k + 1);
-        extent mine;
+        dextent mine;
         extent_init(&mine);
         if (velocities) {
             velocity_range(s, lo, hi, &mine);
@@ -125,16 +120,13 @@ __attribute__((noinline)) void discrete_drift(psim_sim *e, void *p)
         extent_merge(&all, &mine);
         psim_tstat_add(e->tstats, PSIM_PHASE_MOVE, psim_now() - t0, 1, (uint64_t)(hi - lo));
     }
-    for (int a = 0; a < 2; a++) {
-        f->pmin[a] = all.pmin[a], f->pmax[a] = all.pmax[a];
-        f->vmin[a] = all.vmin[a], f->vmax[a] = all.vmax[a];
-    }
-    f->nonfinite = all.nonfinite || !velocities;
+    f->ext = all;
+    f->ext.nonfinite |= !velocities;
     f->measured = velocities;
 }
 
 /* The rounding of a position as large as the scene's largest. */
-static double rounding(const dflight *f)
+static double rounding(const dextent *f)
 {
     double scale = fmax(fmax(fabs(f->pmin[0]), fabs(f->pmax[0])),
                         fmax(fabs(f->pmin[1]), fabs(f->pmax[1])));
@@ -142,13 +134,13 @@ static double rounding(const dflight *f)
 }
 
 /* How much closer any pair can have come in this step's drift. */
-static double closing(const dflight *f)
+static double closing(const dextent *f)
 {
     double hx = 0.5 * (f->vmax[0] - f->vmin[0]), hy = 0.5 * (f->vmax[1] - f->vmin[1]);
     return 2.0 * sqrt(hx * hx + hy * hy) * (1 + 1e-12) + rounding(f);
 }
 
-static int all_inside(const dflight *f, double L, double r)
+static int all_inside(const dextent *f, double L, double r)
 {
     return f->pmin[0] - r > 0 && f->pmax[0] + r < L && f->pmin[1] - r > 0 &&
            f->pmax[1] + r < L;
@@ -162,15 +154,16 @@ int discrete_free_flight(psim_sim *e, dmodel *m)
         skipped[DS_MOVE]++, skipped[DS_SEARCH]++, skipped[DS_WALLS]++;
         return 1;
     }
-    f->walls = !f->measured || e->n == 0 || !all_inside(f, e->L, e->r);
+    f->walls = !f->measured || e->n == 0 || !all_inside(&f->ext, e->L, e->r);
     skipped[DS_WALLS] += !f->walls;
-    if (!f->enabled || e->n == 0 || f->nonfinite) {
+    if (!f->enabled || e->n == 0 || f->ext.nonfinite) {
         f->gap = -1;
         return 0;
     }
     /* resting from the next step: nothing can change a zero velocity */
-    f->resting = f->vmin[0] == 0 && f->vmax[0] == 0 && f->vmin[1] == 0 && f->vmax[1] == 0;
-    double c = closing(f);
+    const dextent *x = &f->ext;
+    f->resting = x->vmin[0] == 0 && x->vmax[0] == 0 && x->vmin[1] == 0 && x->vmax[1] == 0;
+    double c = closing(x);
     if (f->gap >= 0 && f->gap > c) {
         f->gap -= c;
         skipped[DS_SEARCH]++;
@@ -186,7 +179,7 @@ void discrete_flight_searched(const psim_sim *e, dmodel *m)
     if (!f->enabled || !f->measured || m->step_contacts)
         return;
     double d = fmin(sqrt(m->d2min), e->grid.h);
-    f->gap = d * (1 - 1e-12) - 2 * e->r * (1 + 1e-12) - rounding(f);
+    f->gap = d * (1 - 1e-12) - 2 * e->r * (1 + 1e-12) - rounding(&f->ext);
 }
 
 void discrete_walls_only(psim_sim *e, dmodel *m)
@@ -202,7 +195,12 @@ void discrete_walls_only(psim_sim *e, dmodel *m)
             res++;
         }
     e->stats.counter[DC_WALL_RES] += res;
-    if (res > e->stats.counter[DC_MAX_STEP_RES])
-        e->stats.counter[DC_MAX_STEP_RES] = res;
-    m->fl.quiet = res == 0;
+    discrete_step_resolved(e, m, res);
+}
+
+void discrete_step_resolved(psim_sim *e, dmodel *m, uint64_t total)
+{
+    if (total > e->stats.counter[DC_MAX_STEP_RES])
+        e->stats.counter[DC_MAX_STEP_RES] = total;
+    m->fl.quiet = total == 0;
 }

@@ -300,9 +300,7 @@ __attribute__((noinline)) int discrete_resolve(psim_sim *e, dmodel *m)
         e->stats.counter[DC_MAX_ROUNDS] = rounds;
     e->stats.counter[DC_TASKS] += tasks;
     e->stats.skipped[DS_GRAPH] += e->threads == 1;
-    if (total > e->stats.counter[DC_MAX_STEP_RES])
-        e->stats.counter[DC_MAX_STEP_RES] = total;
-    m->fl.quiet = total == 0;
+    discrete_step_resolved(e, m, total);
     return settled ? 0 : -1;
 }
 
