@@ -160,50 +160,12 @@ static int tile_sum(ftile *t)
     return 0;
 }
 
-/* The course's move of particles [q0, q1) of the tile, in place: the
- * straight part in a loop the compiler vectorises, the reflections
- * (rare: a particle that crossed a wall) after, in each chunk that has
- * one.  Returns whether one left the box for good. */
-#define MOVE_CHUNK 64
-
-/* Over particles [q0, q1): the largest squared speed (into *v2max, a
- * bound for the lists), and whether one is outside [0, size]^2 (NaN
- * left out of both, as the course's comparisons leave it). */
-static int chunk_extent(const double *x, const double *y, const double *vx, const double *vy,
-                        uint32_t q0, uint32_t q1, double size, double *v2max)
-{
-    uint32_t q = q0;
-    double m = *v2max, lo = 0, hi = size;
-#ifdef __SSE2__
-    __m128d mm = _mm_set1_pd(m), mlo = _mm_set1_pd(lo), mhi = _mm_set1_pd(hi);
-    for (; q + 2 <= q1; q += 2) {
-        __m128d ux = _mm_loadu_pd(vx + q), uy = _mm_loadu_pd(vy + q);
-        __m128d px = _mm_loadu_pd(x + q), py = _mm_loadu_pd(y + q);
-        __m128d v2 = _mm_add_pd(_mm_mul_pd(ux, ux), _mm_mul_pd(uy, uy));
-        mm = _mm_max_pd(v2, mm);   /* the second operand when the first is NaN */
-        mlo = _mm_min_pd(px, _mm_min_pd(py, mlo));
-        mhi = _mm_max_pd(px, _mm_max_pd(py, mhi));
-    }
-    double l[2], h[2], v[2];
-    _mm_storeu_pd(v, mm), _mm_storeu_pd(l, mlo), _mm_storeu_pd(h, mhi);
-    m = v[0] > v[1] ? v[0] : v[1];
-    lo = l[0] < l[1] ? l[0] : l[1];
-    hi = h[0] > h[1] ? h[0] : h[1];
-#endif
-    int out = lo < 0 || hi > size;
-    for (; q < q1; q++) {
-        double v2 = vx[q] * vx[q] + vy[q] * vy[q];
-        m = v2 > m ? v2 : m;
-        out |= (x[q] < 0) | (x[q] > size) | (y[q] < 0) | (y[q] > size);
-    }
-    *v2max = m;
-    return out;
-}
-
-/* The course's move of particles [q0, q1) of the tile, in place: the
- * straight part in a loop the compiler vectorises, the reflections (rare:
- * a particle that crossed a wall) after, in a chunk that has one.
- * Returns whether one left the box for good. */
+/* The course's move of particles [q0, q1) of the tile, in place: kicks
+ * and drifts two at a time, with the largest squared speed (into *v2max,
+ * a bound for the lists) and whether one is outside [0, size]^2 (NaN left
+ * out of both, as the course's comparisons leave it), in one pass; then
+ * the reflections (rare: a particle that crossed a wall), in a chunk that
+ * has one.  Returns whether one left the box for good. */
 #define MOVE_CHUNK 64
 static int move_chunk(const flaw *law, const ftile *t, double *restrict x,
                       double *restrict y, double *restrict vx, double *restrict vy, uint32_t q0,
@@ -211,15 +173,43 @@ static int move_chunk(const flaw *law, const ftile *t, double *restrict x,
 {
     const flaw kl = *law, *k = &kl;   /* a copy: no store can change it */
     const double *restrict ax = t->ax, *restrict ay = t->ay;
-    for (uint32_t q = q0; q < q1; q++) {
-        double ux = flaw_kick(k, vx[q], ax[q]), uy = flaw_kick(k, vy[q], ay[q]);
-        vx[q] = ux, vy[q] = uy;
-        x[q] = flaw_drift(k, x[q], ux), y[q] = flaw_drift(k, y[q], uy);
+    double m = *v2max, lo = 0, hi = k->size;
+    uint32_t q = q0;
+#ifdef __SSE2__
+    __m128d dt = _mm_set1_pd(k->dt), mm = _mm_set1_pd(m), mlo = _mm_set1_pd(lo),
+            mhi = _mm_set1_pd(hi);
+    for (; q + 2 <= q1; q += 2) {
+        __m128d ux = _mm_add_pd(_mm_loadu_pd(vx + q), _mm_mul_pd(_mm_loadu_pd(ax + q), dt));
+        __m128d uy = _mm_add_pd(_mm_loadu_pd(vy + q), _mm_mul_pd(_mm_loadu_pd(ay + q), dt));
+        __m128d nx = _mm_add_pd(_mm_loadu_pd(x + q), _mm_mul_pd(ux, dt));
+        __m128d ny = _mm_add_pd(_mm_loadu_pd(y + q), _mm_mul_pd(uy, dt));
+        _mm_storeu_pd(vx + q, ux), _mm_storeu_pd(vy + q, uy);
+        _mm_storeu_pd(x + q, nx), _mm_storeu_pd(y + q, ny);
+        __m128d v2 = _mm_add_pd(_mm_mul_pd(ux, ux), _mm_mul_pd(uy, uy));
+        mm = _mm_max_pd(v2, mm);   /* the second operand when the first is NaN */
+        mlo = _mm_min_pd(_mm_min_pd(nx, ny), mlo);
+        mhi = _mm_max_pd(_mm_max_pd(nx, ny), mhi);
     }
-    if (!chunk_extent(x, y, vx, vy, q0, q1, k->size, v2max))
+    double l[2], h[2], v[2];
+    _mm_storeu_pd(v, mm), _mm_storeu_pd(l, mlo), _mm_storeu_pd(h, mhi);
+    m = v[0] > v[1] ? v[0] : v[1];
+    lo = l[0] < l[1] ? l[0] : l[1];
+    hi = h[0] > h[1] ? h[0] : h[1];
+#endif
+    for (; q < q1; q++) {
+        double ux = flaw_kick(k, vx[q], ax[q]), uy = flaw_kick(k, vy[q], ay[q]);
+        double nx = flaw_drift(k, x[q], ux), ny = flaw_drift(k, y[q], uy);
+        vx[q] = ux, vy[q] = uy, x[q] = nx, y[q] = ny;
+        double v2 = ux * ux + uy * uy;
+        m = v2 > m ? v2 : m;
+        lo = nx < lo ? nx : lo, lo = ny < lo ? ny : lo;
+        hi = nx > hi ? nx : hi, hi = ny > hi ? ny : hi;
+    }
+    *v2max = m;
+    if (!(lo < 0 || hi > k->size))
         return 0;
     int lost = 0;
-    for (uint32_t q = q0; q < q1; q++)
+    for (q = q0; q < q1; q++)
         lost |= flaw_bounce(k->size, &x[q], &vx[q]) | flaw_bounce(k->size, &y[q], &vy[q]);
     return lost;
 }
