@@ -92,13 +92,7 @@ FORCE_DT = 0.0005      # CS267's time step (scenes from -n N)
 # Known defects, (case, model), to be taken out when fixed (docs/data/
 # stability.md has the outcomes; each repro assumes its scene, which
 # `--only CASE --keep DIR` leaves in DIR):
-EXPECTED_FAIL = {
-    # the ccd model teleports disks that start outside the box: the wall
-    # candidate t = (x - r) / -vx is not limited to the step, so a disk at
-    # x = -1e6 moving at 0.5 lands at x = 999927.5 within 5 steps (ccd
-    # should refuse such scenes, as event refuses overlaps, or clamp t)
-    ("far_outside", "ccd"),
-}
+EXPECTED_FAIL = set()   # none known
 
 
 # ---------------------------------------------------------------- scenes
@@ -365,7 +359,8 @@ def cases():
         Case("touching_at_rest", lambda ctx: pair((5, 5), (0, 0), (7, 5), (0, 0))),
         *graze_cases(),
         Case("walls_and_corners", lambda ctx: walls_corners()),
-        Case("far_outside", lambda ctx: far_outside(), expect={"event": ANY, **FORCE_ANY}),
+        Case("far_outside", lambda ctx: far_outside(),
+             expect={"event": ANY, "ccd": REFUSED, **FORCE_ANY}),
         Case("speed_L/4", lambda ctx: speed_quarter(ctx.psim, ctx.tmp, ctx.pick(100, 2000)),
              expect=FORCE_ANY),
         Case("one_fast_disk", lambda ctx: one_fast(ctx.psim, ctx.tmp, ctx.pick(100, 2000)),

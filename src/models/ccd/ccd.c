@@ -1,6 +1,7 @@
 /* The ccd model behind the model interface: its grid, its step, and its
  * output in the authors' format. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -77,9 +78,31 @@ static void destroy(void *p)
     free(m);
 }
 
+/* The first disk whose centre is outside [r, L - r]^2 (NaN too), or -1.
+ * The authors' wall time (x - r) / -vx is not limited to the step, so such
+ * a disk would jump to the wall from any distance: psim refuses the scene,
+ * as the event model refuses overlaps. */
+static long first_outside(const psim_scene *sc)
+{
+    const double lo = sc->r, hi = sc->L - sc->r;
+    for (long i = 0; i < sc->n; i++)
+        if (!(sc->x[i] >= lo && sc->x[i] <= hi && sc->y[i] >= lo && sc->y[i] <= hi))
+            return i;
+    return -1;
+}
+
 static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
 {
-    (void)sc;
+    long out = first_outside(sc);
+    if (out >= 0) {
+        char at[320] = "";
+        if (sc->source && sc->line)
+            snprintf(at, sizeof at, "%s:%ld: ", sc->source, sc->line[out]);
+        psim_error_set(err, "%sdisk %ld at (%.17g, %.17g) is outside [r, L - r]^2 = [%.17g, %.17g]^2: "
+                            "the ccd model's wall rule needs every disk inside the box",
+                       at, out, sc->x[out], sc->y[out], sc->r, sc->L - sc->r);
+        return NULL;
+    }
     cmodel *m = calloc(1, sizeof *m);
     if (!m)
         goto oom;
