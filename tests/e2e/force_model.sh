@@ -310,3 +310,20 @@ err = max(math.hypot(a[i][0] - b[i][0], a[i][1] - b[i][1]) for i in a)
 if len(a) != 500 or a.keys() != b.keys() or err > 1e-9:
     sys.exit(f"after step 50: {len(a)} and {len(b)} particles, largest distance {err:g} (want <= 1e-9)")
 PYEOF
+
+# particles crowded into one place: the lists are bounded (64 pairs per
+# particle), refused with a pointer to the naive loops, which run it
+"$PY" - "$tmp/crowd.in" <<'PYEOF'
+import random, sys
+rng = random.Random(3)
+with open(sys.argv[1], "w") as f:
+    f.write("3000\n100\n1\n1\n")
+    for i in range(3000):
+        f.write(f"{i} {50 + rng.random()!r} {50 + rng.random()!r} 0 0\n")
+PYEOF
+expect_fail --rc 1 "too crowded for neighbour lists" "$PSIM" -q --model force -o "$tmp/crowd.out" "$tmp/crowd.in"
+[[ $FAIL_LINE == *"--option naive=1"* ]] || fail "the crowded refusal should name --option naive=1: $FAIL_LINE"
+[[ ! -e $tmp/crowd.out ]] || fail "a refused run left an output"
+"$PSIM" -q --model force --option naive=1 -o "$tmp/crowd.out" "$tmp/crowd.in" 2>"$tmp/crowd.err" || true
+if grep -q "crowded" "$tmp/crowd.err"; then fail "naive=1 should not be bounded by the lists"; fi
+echo "force crowded: ok"

@@ -92,8 +92,15 @@ static int interact(psim_sim *e, void *p, psim_error *err)
 {
     fmodel *m = p;
     int rc = 0;
-    if (!m->naive && lists_stale(m) && force_build_lists(e, m)) {
-        psim_error_set(err, "out of memory for the neighbour lists of step %ld", e->step + 1);
+    if (!m->naive && lists_stale(m) && (rc = force_build_lists(e, m)) != 0) {
+        if (rc == -2)
+            psim_error_set(err, "step %ld: the particles are too crowded for neighbour lists "
+                                "(more than %d pairs per particle within cutoff + skin): "
+                                "run this scene with --option naive=1",
+                           e->step + 1, FORCE_LIST_BUDGET);
+        else
+            psim_error_set(err, "out of memory for the neighbour lists of step %ld",
+                           e->step + 1);
         return -1;
     }
     rc = m->naive ? force_step_naive(e, m) : force_step_lists(e, m);

@@ -41,6 +41,14 @@ enum { FC_PAIR_TESTS, FC_INTERACTIONS, FC_REBUILDS, FC_LIST_ENTRIES, FC_TASKS, F
  * have crossed since the build (half the list on average, not all of it). */
 #define FORCE_BUCKETS 4
 
+/* Most list entries a tile may hold: FORCE_LIST_BUDGET per particle, plus
+ * a little.  The course's scenes have about 2.6 and a dense scene of disks
+ * about 16; particles crowded into one place have n^2 / 2 (1e4 of them took
+ * 7.6 GB before the lists were bounded), and are refused with a pointer to
+ * --option naive=1, whose memory does not grow with the pairs. */
+#define FORCE_LIST_BUDGET 64
+#define FORCE_LIST_SLACK 65536
+
 /* A pair of store places: each unordered pair once (half lists). */
 typedef struct fpair {
     uint32_t i, j;
@@ -85,6 +93,7 @@ typedef struct ftile {
     uint64_t dn;
     int lost;               /* a particle left the box for good */
     int oom;
+    int crowded;            /* the build passed FORCE_LIST_BUDGET */
 } ftile;
 
 typedef struct fmodel {
@@ -111,7 +120,7 @@ static inline double force_drift_bound(const fmodel *m)
     return m->drift + (double)(m->since_build + 1) * 8 * DBL_EPSILON * m->law.size;
 }
 
-/* nlist.c */
+/* nlist.c: 0, -1 out of memory, -2 past the budget (crowded) */
 int force_build_lists(psim_sim *e, fmodel *m);
 /* step.c: forces and move of every particle; -1 if one left the box, -2
  * when out of memory */

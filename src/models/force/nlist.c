@@ -158,6 +158,13 @@ static inline unsigned near_mask(const double *x, const double *y, int n, double
 /* Room for `more` pairs in every shell. */
 static int reserve_pairs(ftile *t, size_t more)
 {
+    size_t total = more;
+    for (int b = 0; b < FORCE_BUCKETS; b++)
+        total += t->len[b];
+    if (total > (size_t)FORCE_LIST_BUDGET * t->n + FORCE_LIST_SLACK) {
+        t->crowded = 1;
+        return -1;
+    }
     for (int b = 0; b < FORCE_BUCKETS; b++)
         if (t->len[b] + more > t->cap[b] &&
             psim_reserve((void **)&t->pair[b], &t->cap[b], t->len[b] + more, sizeof *t->pair[b]))
@@ -243,6 +250,7 @@ static int list_tile(const psim_sim *e, ftile *t, uint32_t tile, const double *t
 {
     for (int b = 0; b < FORCE_BUCKETS; b++)
         t->len[b] = 0;
+    t->crowded = 0;
     if (t->n == 0)
         return 0;
     if (plan_window(e, t, tile) || reserve_rows(t))
@@ -290,9 +298,12 @@ int force_build_lists(psim_sim *e, fmodel *m)
         }
     }
     uint64_t entries = 0;
-    for (uint32_t t = 0; t < m->ntiles; t++)
+    int crowded = 0;
+    for (uint32_t t = 0; t < m->ntiles; t++) {
+        crowded |= m->tiles[t].crowded;
         for (int b = 0; b < FORCE_BUCKETS; b++)
             entries += m->tiles[t].len[b];
+    }
     e->stats.counter[FC_LIST_ENTRIES] += entries;
     e->stats.counter[FC_REBUILDS]++;
     e->stats.counter[FC_TASKS] += m->ntiles;
@@ -300,5 +311,5 @@ int force_build_lists(psim_sim *e, fmodel *m)
     m->drift = 0;
     m->since_build = 0;
     m->built = 1;
-    return oom ? -1 : 0;
+    return crowded ? -2 : oom ? -1 : 0;
 }
