@@ -92,6 +92,42 @@ b = [list(map(float, l.split()[1:])) for l in open(sys.argv[2])]
 sys.exit(a != b)
 PY
 
+# ccd: every velocity 0 (nothing moves) and one velocity for all (no pair
+# search, walls only), the same bytes as without the skips
+python3 - "$tmp" <<'PY'
+import random, sys
+d = sys.argv[1]
+random.seed(5)
+def write(name, L, r, S, pts):
+    with open(f"{d}/{name}.in", "w") as f:
+        f.write(f"{len(pts)}\n{L}\n{r}\n{S}\n")
+        for i, (x, y, vx, vy) in enumerate(pts):
+            f.write(f"{i} {x!r} {y!r} {vx!r} {vy!r}\n")
+write("c_rest", 60, 1, 40, [(random.uniform(1, 59), random.uniform(1, 59), 0.0, -0.0)
+                            for k in range(300)])
+# a block moving as one into the walls: pairs skipped until it bounces
+write("c_wall", 100, 1, 300, [(20 + 2.5 * (k % 20), 20 + 2.5 * (k // 20), 0.3, -0.2)
+                              for k in range(400)])
+PY
+for s in c_rest c_wall comoving approach bouncing; do
+    run_ok "$PSIM" -q --model ccd -O skip=0 --threads 1 -o "$tmp/$s.cref" "$tmp/$s.in"
+    for t in 1 3; do
+        run_ok "$PSIM" -q --model ccd --threads "$t" -o "$tmp/$s.c$t" --stats "$tmp/$s.c$t.json" "$tmp/$s.in"
+        same_file "$tmp/$s.cref" "$tmp/$s.c$t" "ccd $s at $t threads, with and without skips"
+    done
+done
+j=$tmp/c_rest.c1.json
+[[ $(left_out "$j" move) == 40 && $(left_out "$j" pairs) == 40 ]] ||
+    fail "ccd at rest: expected move and pairs left out in all 40 steps: $(grep -A4 left_out "$j")"
+j=$tmp/c_wall.c3.json
+p=$(left_out "$j" pairs)
+((p > 50 && p < 300 && $(counter "$j" wall_collisions) > 0)) ||
+    fail "ccd block into the walls: pairs left out in $p steps, walls $(counter "$j" wall_collisions)"
+[[ $(left_out "$tmp/comoving.c1.json" pairs) == 100 ]] || fail "ccd comoving: pairs should be left out in every step"
+[[ $(left_out "$tmp/approach.c1.json" pairs) == 0 ]] || fail "ccd approach: the pairs must be searched"
+[[ $(left_out "$tmp/approach.c1.json" task_graph) == 160 && $(left_out "$tmp/approach.c3.json" task_graph) == 0 ]] ||
+    fail "ccd: task_graph should be left out at 1 thread only"
+
 # the run summary names what was left out
 "$PSIM" "$tmp/dilute.in" | grep -q "left out: search in 199 of 200 steps" || fail "no 'left out' line in the summary"
 echo "skips: ok"

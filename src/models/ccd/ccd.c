@@ -11,17 +11,24 @@
 #include "../../engine/mem.h"
 #include "../../engine/tstats.h"
 
-/* Largest displacement of one disk in a step: max |vx| + |vy| >= |v|. */
-static double max_displacement(const psim_sim *e)
+/* The velocities this step: the largest displacement of one disk,
+ * max |vx| + |vy| >= |v|, and whether they are all one (finite) velocity
+ * (*same) and that velocity is zero (*zero). */
+static double velocities(const psim_sim *e, int *same, int *zero)
 {
     const psim_store *s = &e->st;
-    double v = 0;
-#pragma omp parallel for schedule(static) reduction(max : v) num_threads(e->threads)
+    double v = 0, u0 = INFINITY, u1 = -INFINITY, w0 = INFINITY, w1 = -INFINITY;
+#pragma omp parallel for schedule(static) num_threads(e->threads) \
+    reduction(max : v, u1, w1) reduction(min : u0, w0)
     for (size_t i = 0; i < s->n; i++) {
         double d = fabs(s->vx[i]) + fabs(s->vy[i]);
-        if (d > v)
-            v = d;
+        v = d > v ? d : v;
+        u0 = s->vx[i] < u0 ? s->vx[i] : u0, u1 = s->vx[i] > u1 ? s->vx[i] : u1;
+        w0 = s->vy[i] < w0 ? s->vy[i] : w0, w1 = s->vy[i] > w1 ? s->vy[i] : w1;
     }
+    /* NaN is in no comparison: it leaves u0 > u1 or a v that is not finite */
+    *same = s->n > 0 && u0 == u1 && w0 == w1 && isfinite(u0) && isfinite(w0) && isfinite(v);
+    *zero = *same && u0 == 0 && w0 == 0;
     return v;
 }
 
@@ -35,9 +42,8 @@ static double margin_for(const cmodel *m, double vmax)
 
 /* Cells must be wider than 2r plus the largest displacement of two disks;
  * re-plan when they are not, or when they are far wider than needed. */
-static int fit_grid(psim_sim *e, cmodel *m, int *regridded)
+static int fit_grid(psim_sim *e, cmodel *m, double vmax, int *regridded)
 {
-    double vmax = max_displacement(e);
     m->vmax = vmax;
     m->margin = margin_for(m, vmax);
     double reach = 2 * m->r + 2 * vmax + 2 * m->margin;
@@ -123,10 +129,11 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
     m->lists = calloc((size_t)m->nlists, sizeof *m->lists);
     m->off = calloc((size_t)m->nlists, sizeof *m->off);
     m->head = calloc((size_t)m->nlists, sizeof *m->head);
-    int regridded;
+    m->skip = psim_engine_option(e, "skip", 1) != 0;
+    int regridded, same, zero;
     if (!m->sx0 || !m->sx1 || !m->sy0 || !m->sy1 || !m->ord || !m->key || !m->key2 ||
         !m->ord2 || !m->busy || !m->best || !m->pcoll || !m->wcoll || !m->lists || !m->off || !m->head ||
-        fit_grid(e, m, &regridded))
+        fit_grid(e, m, velocities(e, &same, &zero), &regridded))
         goto oom;
     return m;
 oom:
@@ -135,18 +142,36 @@ oom:
     return NULL;
 }
 
+/* A step.  Where the scene cannot use a stage it is left out (the same
+ * bytes as without: tests/e2e/skips.sh):
+ *   move   every velocity is 0: no candidate, and x + 0 = x for every disk
+ *          inside the box, so nothing at all happens;
+ *   pairs  every disk has the same velocity: no pair approaches (|dv|^2 =
+ *          0 gives no candidate), so the sort and the pair search are left
+ *          out and only walls are found (in any order of the store: the
+ *          candidates' order is the rules' total order). */
 static int interact(psim_sim *e, void *p, psim_error *err)
 {
     cmodel *m = p;
-    int regridded, rc = 0;
-    PSIM_TIMED(e, CPHASE_DETECT, rc = fit_grid(e, m, &regridded));
-    if (rc == 0 && regridded) {
-        e->stats.counter[CC_REGRIDS]++;
-        psim_engine_sort(e);
+    int regridded = 0, same, zero, rc = 0;
+    double vmax = 0;
+    PSIM_TIMED(e, CPHASE_DETECT, vmax = velocities(e, &same, &zero));
+    same &= m->skip, zero &= m->skip && m->r > 0;   /* r > 0: no disk at -0 */
+    if (zero) {
+        e->stats.skipped[CS_MOVE]++;
+        e->stats.skipped[CS_PAIRS]++;
+        return 0;
     }
+    if (!same)
+        PSIM_TIMED(e, CPHASE_DETECT, rc = fit_grid(e, m, vmax, &regridded));
+    if (rc == 0 && regridded)
+        e->stats.counter[CC_REGRIDS]++;
+    if (rc == 0 && !same)
+        psim_engine_sort(e);
+    e->stats.skipped[CS_PAIRS] += same;
     m->oom = 0;
     if (rc == 0)
-        PSIM_TIMED(e, CPHASE_DETECT, ccd_detect(e, m));
+        PSIM_TIMED(e, CPHASE_DETECT, same ? ccd_detect_walls(e, m) : ccd_detect(e, m));
     if (rc == 0 && !m->oom)
         PSIM_TIMED(e, CPHASE_ORDER, rc = ccd_order(e, m));
     if (rc == 0 && !m->oom)
@@ -200,6 +225,11 @@ const psim_model psim_model_ccd = {
                  "wall_collisions", "accept_rounds", "tasks", "regrids", NULL},
     .output = {.to_stdout = 1, .initial = 1, .every_step = 1, .final = 1},
     .output_digits = 8,
+    .options = {{"skip", "0: never leave out a stage the scene cannot use (for tests)", 0, 1}},
+    .skips = {[CS_PAIRS] = {"pairs", "one velocity for all: sort and pair search"},
+              [CS_MOVE] = {"move", "every velocity 0: nothing moves"},
+              [CS_GRAPH] = {"task_graph", "one thread: detection runs in order, no tasks"}},
+    .sorts_itself = 1,
     .create = create,
     .interact = interact,
     .check = ccd_check,

@@ -28,6 +28,8 @@
 enum { CPHASE_DETECT = PSIM_PHASE_MODEL, CPHASE_ORDER, CPHASE_ACCEPT };
 enum { CC_PAIR_TESTS, CC_PAIR_CANDIDATES, CC_WALL_CANDIDATES, CC_PAIR_COLLISIONS,
        CC_WALL_COLLISIONS, CC_ACCEPT_ROUNDS, CC_TASKS, CC_REGRIDS };
+/* Stages left out where the scene cannot use them (ccd.c). */
+enum { CS_PAIRS, CS_MOVE, CS_GRAPH };
 
 /* A candidate: disks by id, p < q, q = -1 for the wall; sp, sq their
  * places in the store this step. */
@@ -102,10 +104,12 @@ typedef struct cmodel {
     size_t live_cap;
     int64_t *pcoll, *wcoll; /* per id: collisions so far */
     ccd_accept_mode accept_mode;
+    int skip;               /* leave out what the scene cannot use (-O skip) */
     int oom;                /* a list could not grow this step */
 } cmodel;
 
 void ccd_detect(psim_sim *e, cmodel *m);
+void ccd_detect_walls(psim_sim *e, cmodel *m);
 int ccd_order(psim_sim *e, cmodel *m);
 int ccd_accept(psim_sim *e, cmodel *m);
 void ccd_advance(psim_sim *e, cmodel *m);

@@ -379,6 +379,7 @@ typedef struct detect_ctx {
     double L, r;
     psim_thread_stats *ts;
     uint64_t tests;         /* pairs with overlapping boxes (added atomically) */
+    int graph;              /* tasks (more than one thread), else direct calls */
 } detect_ctx;
 
 /* The exact rule on rows a, b (their boxes overlap), lower id first. */
@@ -631,7 +632,7 @@ static uint64_t spawn_tasks(detect_ctx *c, size_t unit)
         if ((cc == g->ncells || held + cn > unit || big) && cc > c0) {
             uint32_t f0 = c0, f1 = cc;
             tasks++;
-#pragma omp task firstprivate(c, f0, f1) default(none)
+#pragma omp task firstprivate(c, f0, f1) default(none) if (c->graph)
             task_cells(c, f0, f1);
             c0 = cc;
             held = 0;
@@ -646,7 +647,7 @@ static uint64_t spawn_tasks(detect_ctx *c, size_t unit)
         for (uint32_t k = g->cellstart[cc]; k < end; k += (uint32_t)unit) {
             uint32_t cell = cc, k0 = k, k1 = end - k > unit ? k + (uint32_t)unit : end;
             tasks++;
-#pragma omp task firstprivate(c, cell, k0, k1) default(none)
+#pragma omp task firstprivate(c, cell, k0, k1) default(none) if (c->graph)
             task_slice(c, cell, k0, k1);
         }
         c0 = cc + 1;
@@ -656,7 +657,7 @@ static uint64_t spawn_tasks(detect_ctx *c, size_t unit)
         for (uint32_t a = bd->e0; a < bd->e1; a += (uint32_t)unit) {
             uint32_t a0 = a, a1 = bd->e1 - a > unit ? a + (uint32_t)unit : bd->e1;
             tasks++;
-#pragma omp task firstprivate(c, bd, a0, a1) default(none)
+#pragma omp task firstprivate(c, bd, a0, a1) default(none) if (c->graph)
             task_band(c, bd, a0, a1);
         }
     }
@@ -679,12 +680,36 @@ void ccd_detect(psim_sim *e, cmodel *m)
         m->lists[t].n = 0;
     size_t unit = e->st.n / (8 * (size_t)e->threads);
     unit = unit < 256 ? 256 : (unit > 16384 ? 16384 : unit);
-    detect_ctx ctx = {m, &e->st, &e->grid, m->L, m->r, e->tstats, 0};
+    detect_ctx ctx = {m, &e->st, &e->grid, m->L, m->r, e->tstats, 0, e->threads > 1};
     detect_ctx *c = &ctx;
     uint64_t tasks = 0;
+    if (c->graph) {
 #pragma omp parallel num_threads(e->threads) firstprivate(c) shared(tasks, unit) default(none)
 #pragma omp single
-    tasks = spawn_tasks(c, unit);
+        tasks = spawn_tasks(c, unit);
+        e->stats.counter[CC_TASKS] += tasks;
+    } else {
+        spawn_tasks(c, unit);   /* one thread: the same calls in order, no tasks */
+        e->stats.skipped[CS_GRAPH]++;
+    }
     e->stats.counter[CC_PAIR_TESTS] += ctx.tests;
-    e->stats.counter[CC_TASKS] += tasks;
+}
+
+/* Wall candidates only (no pair can meet this step): every disk in store
+ * order, in static parts, with no grid. */
+void ccd_detect_walls(psim_sim *e, cmodel *m)
+{
+    for (int t = 0; t < m->nlists; t++)
+        m->lists[t].n = 0;
+    detect_ctx ctx = {m, &e->st, NULL, m->L, m->r, e->tstats, 0, 0};
+    detect_ctx *c = &ctx;
+    const size_t n = e->st.n;
+#pragma omp parallel num_threads(e->threads) firstprivate(c) default(none) shared(n)
+    {
+        double t0 = psim_now();
+        int T = omp_get_num_threads(), k = omp_get_thread_num();
+        size_t lo = psim_part_lo(n, T, k), hi = psim_part_lo(n, T, k + 1);
+        detect_walls(c, (uint32_t)lo, (uint32_t)hi, &c->m->lists[k]);
+        psim_tstat_add(c->ts, CPHASE_DETECT, psim_now() - t0, 1, hi - lo);
+    }
 }
