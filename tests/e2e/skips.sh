@@ -128,6 +128,39 @@ p=$(left_out "$j" pairs)
 [[ $(left_out "$tmp/approach.c1.json" task_graph) == 160 && $(left_out "$tmp/approach.c3.json" task_graph) == 0 ]] ||
     fail "ccd: task_graph should be left out at 1 thread only"
 
+# force: at rest (nothing changes after two quiet steps), moving as one
+# (the lists never go stale: particles that do not close in), no walls,
+# one thread; the same bytes as without the skips
+python3 - "$tmp" <<'PY'
+import random, sys
+d = sys.argv[1]
+random.seed(6)
+def write(name, L, r, S, pts):
+    with open(f"{d}/{name}.in", "w") as f:
+        f.write(f"{len(pts)}\n{L}\n{r}\n{S}\n")
+        for i, (x, y, vx, vy) in enumerate(pts):
+            f.write(f"{i} {x!r} {y!r} {vx!r} {vy!r}\n")
+write("f_rest", 200, 1, 60, [(5 + 10 * (k % 19) + random.uniform(-1, 1),
+                             5 + 10 * (k // 19) + random.uniform(-1, 1), 0.0, -0.0)
+                            for k in range(361)] + [(-0.0, 7.0, 0.0, 0.0)])
+write("f_com", 400, 1, 200, [(100 + 2.5 * (k % 30), 100 + 2.5 * (k // 30), 0.03, -0.02)
+                             for k in range(900)])
+PY
+for s in f_rest f_com bouncing; do
+    run_ok "$PSIM" -q --model force -O skip=0 --threads 1 -o "$tmp/$s.fref" --stats "$tmp/$s.fref.json" "$tmp/$s.in"
+    for t in 1 3; do
+        run_ok "$PSIM" -q --model force --threads "$t" -o "$tmp/$s.f$t" --stats "$tmp/$s.f$t.json" "$tmp/$s.in"
+        same_file "$tmp/$s.fref" "$tmp/$s.f$t" "force $s at $t threads, with and without skips"
+    done
+done
+[[ $(left_out "$tmp/f_rest.f1.json" move) == 58 ]] ||
+    fail "force at rest: expected the step left out in 58 of 60 steps: $(grep -A4 left_out "$tmp/f_rest.f1.json")"
+[[ $(counter "$tmp/f_com.f3.json" rebuilds) == 1 && $(counter "$tmp/f_com.fref.json" rebuilds) -gt 1 ]] ||
+    fail "force moving as one: one list build expected, $(counter "$tmp/f_com.f3.json" rebuilds)"
+[[ $(left_out "$tmp/f_com.f1.json" walls) == 200 && $(left_out "$tmp/f_com.f1.json" task_graph) == 200 &&
+   $(left_out "$tmp/f_com.f3.json" task_graph) == 0 ]] ||
+    fail "force: walls and task_graph (1 thread) should be left out: $(grep -A4 left_out "$tmp/f_com.f1.json")"
+
 # the run summary names what was left out
 "$PSIM" "$tmp/dilute.in" | grep -q "left out: search in 199 of 200 steps" || fail "no 'left out' line in the summary"
 echo "skips: ok"

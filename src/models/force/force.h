@@ -24,6 +24,8 @@
 
 enum { FPHASE_NLIST = PSIM_PHASE_MODEL, FPHASE_FORCE, FPHASE_INTEGRATE };
 enum { FC_PAIR_TESTS, FC_INTERACTIONS, FC_REBUILDS, FC_LIST_ENTRIES, FC_TASKS, FC_SORTED };
+/* Stages left out where the scene cannot use them (force.c, step.c). */
+enum { FS_MOVE, FS_WALLS, FS_GRAPH };
 
 /* The course's constants (common.h). */
 #define CS267_DENSITY 0.0005
@@ -88,6 +90,8 @@ typedef struct ftile {
     size_t acap;
     /* this step: */
     double v2max;           /* largest squared speed after the move */
+    double u0, u1, w0, w1;  /* extent of the velocities the drift used */
+    int bounced;            /* a particle was reflected off a wall */
     uint64_t tests, hits, sorted;
     double dmin, dsum;      /* --force-stats: nearest distance / cutoff, sum */
     uint64_t dn;
@@ -98,9 +102,11 @@ typedef struct ftile {
 
 typedef struct fmodel {
     flaw law;
-    int naive, stats;
+    int naive, stats, skip;
     double skin;            /* list radius = cutoff + skin */
-    double drift;           /* bound on any displacement since the build */
+    double drift;           /* bound on half of any pair's relative
+                             * displacement since the build */
+    int quiet;              /* steps in a row with no force, speed or wall */
     long since_build;       /* steps since the build */
     int shells;             /* this step: the shells to test */
     int built;
@@ -112,9 +118,12 @@ typedef struct fmodel {
     long lost_step;         /* first step a particle left the box (0: none) */
 } fmodel;
 
-/* A bound on how far any particle has moved since the lists were built:
- * the sum over the steps of the largest speed times dt, plus a few ulps
- * of the box a step (the rounding of the positions), plus one step's. */
+/* A bound on half of how far any two particles have moved relative to
+ * each other since the lists were built: the sum over the steps of the
+ * largest speed times dt (or, in a step without wall reflections, the
+ * half-diagonal of the velocities' extent if smaller: particles moving as
+ * one do not close in), plus a few ulps of the box a step (the rounding
+ * of the positions), plus one step's. */
 static inline double force_drift_bound(const fmodel *m)
 {
     return m->drift + (double)(m->since_build + 1) * 8 * DBL_EPSILON * m->law.size;

@@ -283,11 +283,12 @@ int force_build_lists(psim_sim *e, fmodel *m)
     }
     int oom = 0;
     psim_thread_stats *ts = e->tstats;
-#pragma omp parallel num_threads(e->threads)
+    const int graph = e->threads > 1;   /* one thread: the same calls in order */
+#pragma omp parallel num_threads(e->threads) if (graph)
 #pragma omp single
     for (uint32_t t = 0; t < m->ntiles; t++) {
         ftile *ft = &m->tiles[t];
-#pragma omp task firstprivate(ft, t) shared(thr) shared(oom, ts, e) default(none)
+#pragma omp task firstprivate(ft, t) shared(thr) shared(oom, ts, e) default(none) if (graph)
         {
             double b0 = psim_now();
             if (list_tile(e, ft, t, thr)) {
@@ -306,7 +307,7 @@ int force_build_lists(psim_sim *e, fmodel *m)
     }
     e->stats.counter[FC_LIST_ENTRIES] += entries;
     e->stats.counter[FC_REBUILDS]++;
-    e->stats.counter[FC_TASKS] += m->ntiles;
+    e->stats.counter[FC_TASKS] += graph ? m->ntiles : 0;
     e->stats.phase_s[FPHASE_NLIST] += psim_now() - t0;
     m->drift = 0;
     m->since_build = 0;

@@ -45,6 +45,9 @@ static inline void pair_stats(const flaw *k, ftile *t, double px, double py, dou
 static void tile_reset(ftile *t)
 {
     t->v2max = 0;
+    t->u0 = t->w0 = INFINITY;
+    t->u1 = t->w1 = -INFINITY;
+    t->bounced = 0;
     t->tests = t->hits = t->sorted = 0;
     t->dmin = 1.0;
     t->dsum = 0;
@@ -167,17 +170,17 @@ static int tile_sum(ftile *t)
  * the reflections (rare: a particle that crossed a wall), in a chunk that
  * has one.  Returns whether one left the box for good. */
 #define MOVE_CHUNK 64
-static int move_chunk(const flaw *law, const ftile *t, double *restrict x,
-                      double *restrict y, double *restrict vx, double *restrict vy, uint32_t q0,
-                      uint32_t q1, double *v2max)
+static int move_chunk(const flaw *law, ftile *t, double *restrict x, double *restrict y,
+                      double *restrict vx, double *restrict vy, uint32_t q0, uint32_t q1)
 {
     const flaw kl = *law, *k = &kl;   /* a copy: no store can change it */
     const double *restrict ax = t->ax, *restrict ay = t->ay;
-    double m = *v2max, lo = 0, hi = k->size;
+    double m = t->v2max, lo = 0, hi = k->size, u0 = t->u0, u1 = t->u1, w0 = t->w0, w1 = t->w1;
     uint32_t q = q0;
 #ifdef __SSE2__
     __m128d dt = _mm_set1_pd(k->dt), mm = _mm_set1_pd(m), mlo = _mm_set1_pd(lo),
-            mhi = _mm_set1_pd(hi);
+            mhi = _mm_set1_pd(hi), mu0 = _mm_set1_pd(u0), mu1 = _mm_set1_pd(u1),
+            mw0 = _mm_set1_pd(w0), mw1 = _mm_set1_pd(w1);
     for (; q + 2 <= q1; q += 2) {
         __m128d ux = _mm_add_pd(_mm_loadu_pd(vx + q), _mm_mul_pd(_mm_loadu_pd(ax + q), dt));
         __m128d uy = _mm_add_pd(_mm_loadu_pd(vy + q), _mm_mul_pd(_mm_loadu_pd(ay + q), dt));
@@ -189,12 +192,17 @@ static int move_chunk(const flaw *law, const ftile *t, double *restrict x,
         mm = _mm_max_pd(v2, mm);   /* the second operand when the first is NaN */
         mlo = _mm_min_pd(_mm_min_pd(nx, ny), mlo);
         mhi = _mm_max_pd(_mm_max_pd(nx, ny), mhi);
+        mu0 = _mm_min_pd(ux, mu0), mu1 = _mm_max_pd(ux, mu1);
+        mw0 = _mm_min_pd(uy, mw0), mw1 = _mm_max_pd(uy, mw1);
     }
-    double l[2], h[2], v[2];
+    double l[2], h[2], v[2], a[2], b[2], c[2], d[2];
     _mm_storeu_pd(v, mm), _mm_storeu_pd(l, mlo), _mm_storeu_pd(h, mhi);
+    _mm_storeu_pd(a, mu0), _mm_storeu_pd(b, mu1), _mm_storeu_pd(c, mw0), _mm_storeu_pd(d, mw1);
     m = v[0] > v[1] ? v[0] : v[1];
     lo = l[0] < l[1] ? l[0] : l[1];
     hi = h[0] > h[1] ? h[0] : h[1];
+    u0 = a[0] < a[1] ? a[0] : a[1], u1 = b[0] > b[1] ? b[0] : b[1];
+    w0 = c[0] < c[1] ? c[0] : c[1], w1 = d[0] > d[1] ? d[0] : d[1];
 #endif
     for (; q < q1; q++) {
         double ux = flaw_kick(k, vx[q], ax[q]), uy = flaw_kick(k, vy[q], ay[q]);
@@ -204,11 +212,15 @@ static int move_chunk(const flaw *law, const ftile *t, double *restrict x,
         m = v2 > m ? v2 : m;
         lo = nx < lo ? nx : lo, lo = ny < lo ? ny : lo;
         hi = nx > hi ? nx : hi, hi = ny > hi ? ny : hi;
+        u0 = ux < u0 ? ux : u0, u1 = ux > u1 ? ux : u1;
+        w0 = uy < w0 ? uy : w0, w1 = uy > w1 ? uy : w1;
     }
-    *v2max = m;
+    t->v2max = m;
+    t->u0 = u0, t->u1 = u1, t->w0 = w0, t->w1 = w1;
     if (!(lo < 0 || hi > k->size))
         return 0;
     int lost = 0;
+    t->bounced = 1;
     for (q = q0; q < q1; q++)
         lost |= flaw_bounce(k->size, &x[q], &vx[q]) | flaw_bounce(k->size, &y[q], &vy[q]);
     return lost;
@@ -223,17 +235,16 @@ static void tile_integrate(const fmodel *m, psim_store *s, ftile *t)
         return;
     }
     uint32_t f = t->first;
-    double *x = s->x + f, *y = s->y + f, *vx = s->vx + f, *vy = s->vy + f, v2max = 0;
+    double *x = s->x + f, *y = s->y + f, *vx = s->vx + f, *vy = s->vy + f;
     int lost = 0;
     for (uint32_t q = 0; q < t->n; q += MOVE_CHUNK)
         lost |= move_chunk(&m->law, t, x, y, vx, vy, q,
-                           t->n - q < MOVE_CHUNK ? t->n : q + MOVE_CHUNK, &v2max);
+                           t->n - q < MOVE_CHUNK ? t->n : q + MOVE_CHUNK);
     for (size_t r = 0; r < t->nrec; r++) {   /* zero again for the next step */
         uint32_t q = t->rec[r].owner - f;
         t->ax[q] = t->ay[q] = 0;
         t->cnt[q] = 0;
     }
-    t->v2max = v2max;
     t->lost = lost;
 }
 
@@ -286,13 +297,17 @@ static void block_naive(const fmodel *m, psim_store *s, ftile *t)
  * -2 if a tile ran out of memory. */
 static int finish(psim_sim *e, fmodel *m)
 {
-    double v2max = 0, dmin = 1.0, dsum = 0;
+    double v2max = 0, dmin = 1.0, dsum = 0, u0 = INFINITY, u1 = -INFINITY, w0 = INFINITY,
+           w1 = -INFINITY;
     uint64_t tests = 0, hits = 0, dn = 0, sorted = 0;
-    int lost = 0, oom = 0;
+    int lost = 0, oom = 0, bounced = m->naive;   /* naive: no extents, the plain bound */
     for (uint32_t t = 0; t < m->ntiles; t++) {
         const ftile *ft = &m->tiles[t];
         oom |= ft->oom;
         v2max = fmax(v2max, ft->v2max);
+        u0 = fmin(u0, ft->u0), u1 = fmax(u1, ft->u1);
+        w0 = fmin(w0, ft->w0), w1 = fmax(w1, ft->w1);
+        bounced |= ft->bounced;
         tests += ft->tests;
         hits += ft->hits;
         sorted += ft->sorted;
@@ -304,8 +319,16 @@ static int finish(psim_sim *e, fmodel *m)
     e->stats.counter[FC_PAIR_TESTS] += tests;
     e->stats.counter[FC_INTERACTIONS] += hits;
     e->stats.counter[FC_SORTED] += sorted;
-    m->drift += sqrt(v2max) * m->law.dt;
+    /* half of any pair's closing this step: the largest speed, or without
+     * reflections (they move a particle elsewhere than v dt) the
+     * half-diagonal of the velocities' extent when smaller */
+    double vmax = sqrt(v2max), hw = 0.5 * hypot(u1 - u0, w1 - w0) * (1 + 1e-12);
+    m->drift += (bounced || !m->skip || !(hw < vmax) ? vmax : hw) * m->law.dt;
     m->since_build++;
+    e->stats.skipped[FS_WALLS] += !bounced && !m->naive;
+    /* at rest from the next step but one (a first quiet step may still turn
+     * -0 into +0): no force, no speed, no wall */
+    m->quiet = hits == 0 && v2max == 0 && !bounced && !lost ? m->quiet + 1 : 0;
     if (m->stats) {            /* the course's per-step bookkeeping */
         if (dn) {
             m->absavg += dsum / (double)dn;
@@ -334,11 +357,11 @@ typedef void (*tile_fn)(const fmodel *m, psim_store *s, ftile *t);
 /* One task per tile running fn, timed as phase; returns when all are done
  * (called inside a parallel region's single). */
 static void run_tiles(const fmodel *m, psim_store *s, psim_thread_stats *ts, tile_fn fn,
-                      int phase)
+                      int phase, int graph)
 {
     for (uint32_t t = 0; t < m->ntiles; t++) {
         ftile *ft = &m->tiles[t];
-#pragma omp task firstprivate(ft, m, s, ts, fn, phase) default(none)
+#pragma omp task firstprivate(ft, m, s, ts, fn, phase) default(none) if (graph)
         {
             double b0 = psim_now();
             fn(m, s, ft);
@@ -355,18 +378,20 @@ int force_step_lists(psim_sim *e, fmodel *m)
     int oom = 0;
     m->shells = active_shells(m);
     double t0 = psim_now(), t1 = t0;
-#pragma omp parallel num_threads(e->threads)
+    const int graph = e->threads > 1;   /* one thread: the same calls in order */
+#pragma omp parallel num_threads(e->threads) if (graph)
 #pragma omp single
     {
-        run_tiles(m, s, ts, tile_force, FPHASE_FORCE);
+        run_tiles(m, s, ts, tile_force, FPHASE_FORCE, graph);
         t1 = psim_now();
         oom = hand_over(m);
-        run_tiles(m, s, ts, tile_integrate, FPHASE_INTEGRATE);
+        run_tiles(m, s, ts, tile_integrate, FPHASE_INTEGRATE, graph);
     }
+    e->stats.skipped[FS_GRAPH] += !graph;
     double t2 = psim_now();
     e->stats.phase_s[FPHASE_FORCE] += t1 - t0;
     e->stats.phase_s[FPHASE_INTEGRATE] += t2 - t1;
-    e->stats.counter[FC_TASKS] += 2 * m->ntiles;
+    e->stats.counter[FC_TASKS] += graph ? 2 * m->ntiles : 0;
     int rc = finish(e, m);
     return oom ? -2 : rc;
 }
@@ -378,7 +403,7 @@ int force_step_naive(psim_sim *e, fmodel *m)
     double t0 = psim_now();
 #pragma omp parallel num_threads(e->threads)
 #pragma omp single
-    run_tiles(m, s, e->tstats, block_naive, FPHASE_FORCE);
+    run_tiles(m, s, e->tstats, block_naive, FPHASE_FORCE, 1);
     e->stats.phase_s[FPHASE_FORCE] += psim_now() - t0;
     e->stats.counter[FC_TASKS] += m->ntiles;
     double *tx = s->x, *ty = s->y;
