@@ -36,6 +36,20 @@ write("bouncing", 100, 0.5, 150, [(5 + 10 * (k % 10), 5 + 10 * (k // 10),
 write("nonfinite", 800, 1, 20, [(10 + 20 * (k % 40), 10 + 20 * (k // 40),
                                  1e300 if k == 7 else -1e300 if k == 9 else 0.01,
                                  0.0) for k in range(400)])
+# ccd: at rest; a block moving as one into the walls
+random.seed(5)
+write("c_rest", 60, 1, 40, [(random.uniform(1, 59), random.uniform(1, 59), 0.0, -0.0)
+                            for k in range(300)])
+# a block moving as one into the walls: pairs skipped until it bounces
+write("c_wall", 100, 1, 300, [(20 + 2.5 * (k % 20), 20 + 2.5 * (k // 20), 0.3, -0.2)
+                              for k in range(400)])
+# force: at rest (and one particle at -0.0); moving as one
+random.seed(6)
+write("f_rest", 200, 1, 60, [(5 + 10 * (k % 19) + random.uniform(-1, 1),
+                             5 + 10 * (k // 19) + random.uniform(-1, 1), 0.0, -0.0)
+                            for k in range(361)] + [(-0.0, 7.0, 0.0, 0.0)])
+write("f_com", 400, 1, 200, [(100 + 2.5 * (k % 30), 100 + 2.5 * (k // 30), 0.03, -0.02)
+                             for k in range(900)])
 PY
 
 # left_out KEY of the stats file
@@ -94,72 +108,46 @@ PY
 
 # ccd: every velocity 0 (nothing moves) and one velocity for all (no pair
 # search, walls only), the same bytes as without the skips
-python3 - "$tmp" <<'PY'
-import random, sys
-d = sys.argv[1]
-random.seed(5)
-def write(name, L, r, S, pts):
-    with open(f"{d}/{name}.in", "w") as f:
-        f.write(f"{len(pts)}\n{L}\n{r}\n{S}\n")
-        for i, (x, y, vx, vy) in enumerate(pts):
-            f.write(f"{i} {x!r} {y!r} {vx!r} {vy!r}\n")
-write("c_rest", 60, 1, 40, [(random.uniform(1, 59), random.uniform(1, 59), 0.0, -0.0)
-                            for k in range(300)])
-# a block moving as one into the walls: pairs skipped until it bounces
-write("c_wall", 100, 1, 300, [(20 + 2.5 * (k % 20), 20 + 2.5 * (k // 20), 0.3, -0.2)
-                              for k in range(400)])
-PY
-for s in c_rest c_wall comoving approach bouncing; do
-    run_ok "$PSIM" -q --model ccd -O skip=0 --threads 1 -o "$tmp/$s.cref" "$tmp/$s.in"
-    for t in 1 3; do
-        run_ok "$PSIM" -q --model ccd --threads "$t" -o "$tmp/$s.c$t" --stats "$tmp/$s.c$t.json" "$tmp/$s.in"
-        same_file "$tmp/$s.cref" "$tmp/$s.c$t" "ccd $s at $t threads, with and without skips"
+# same_without_skips MODEL SCENE...: each scene's output at 1 and 3 threads
+# (stats in SCENE.MODEL{1,3}.json) equals its output with -O skip=0
+# (SCENE.MODEL.ref, stats SCENE.MODEL.ref.json)
+same_without_skips()
+{
+    local m=$1 s t
+    shift
+    for s in "$@"; do
+        run_ok "$PSIM" -q --model "$m" -O skip=0 --threads 1 -o "$tmp/$s.$m.ref" \
+            --stats "$tmp/$s.$m.ref.json" "$tmp/$s.in"
+        for t in 1 3; do
+            run_ok "$PSIM" -q --model "$m" --threads "$t" -o "$tmp/$s.$m$t" --stats "$tmp/$s.$m$t.json" "$tmp/$s.in"
+            same_file "$tmp/$s.$m.ref" "$tmp/$s.$m$t" "$m $s at $t threads, with and without skips"
+        done
     done
-done
-j=$tmp/c_rest.c1.json
+}
+same_without_skips ccd c_rest c_wall comoving approach bouncing
+j=$tmp/c_rest.ccd1.json
 [[ $(left_out "$j" move) == 40 && $(left_out "$j" pairs) == 40 ]] ||
     fail "ccd at rest: expected move and pairs left out in all 40 steps: $(grep -A4 left_out "$j")"
-j=$tmp/c_wall.c3.json
+j=$tmp/c_wall.ccd3.json
 p=$(left_out "$j" pairs)
 ((p > 50 && p < 300 && $(counter "$j" wall_collisions) > 0)) ||
     fail "ccd block into the walls: pairs left out in $p steps, walls $(counter "$j" wall_collisions)"
-[[ $(left_out "$tmp/comoving.c1.json" pairs) == 100 ]] || fail "ccd comoving: pairs should be left out in every step"
-[[ $(left_out "$tmp/approach.c1.json" pairs) == 0 ]] || fail "ccd approach: the pairs must be searched"
-[[ $(left_out "$tmp/approach.c1.json" task_graph) == 160 && $(left_out "$tmp/approach.c3.json" task_graph) == 0 ]] ||
+[[ $(left_out "$tmp/comoving.ccd1.json" pairs) == 100 ]] || fail "ccd comoving: pairs should be left out in every step"
+[[ $(left_out "$tmp/approach.ccd1.json" pairs) == 0 ]] || fail "ccd approach: the pairs must be searched"
+[[ $(left_out "$tmp/approach.ccd1.json" task_graph) == 160 && $(left_out "$tmp/approach.ccd3.json" task_graph) == 0 ]] ||
     fail "ccd: task_graph should be left out at 1 thread only"
 
 # force: at rest (nothing changes after two quiet steps), moving as one
 # (the lists never go stale: particles that do not close in), no walls,
 # one thread; the same bytes as without the skips
-python3 - "$tmp" <<'PY'
-import random, sys
-d = sys.argv[1]
-random.seed(6)
-def write(name, L, r, S, pts):
-    with open(f"{d}/{name}.in", "w") as f:
-        f.write(f"{len(pts)}\n{L}\n{r}\n{S}\n")
-        for i, (x, y, vx, vy) in enumerate(pts):
-            f.write(f"{i} {x!r} {y!r} {vx!r} {vy!r}\n")
-write("f_rest", 200, 1, 60, [(5 + 10 * (k % 19) + random.uniform(-1, 1),
-                             5 + 10 * (k // 19) + random.uniform(-1, 1), 0.0, -0.0)
-                            for k in range(361)] + [(-0.0, 7.0, 0.0, 0.0)])
-write("f_com", 400, 1, 200, [(100 + 2.5 * (k % 30), 100 + 2.5 * (k // 30), 0.03, -0.02)
-                             for k in range(900)])
-PY
-for s in f_rest f_com bouncing; do
-    run_ok "$PSIM" -q --model force -O skip=0 --threads 1 -o "$tmp/$s.fref" --stats "$tmp/$s.fref.json" "$tmp/$s.in"
-    for t in 1 3; do
-        run_ok "$PSIM" -q --model force --threads "$t" -o "$tmp/$s.f$t" --stats "$tmp/$s.f$t.json" "$tmp/$s.in"
-        same_file "$tmp/$s.fref" "$tmp/$s.f$t" "force $s at $t threads, with and without skips"
-    done
-done
-[[ $(left_out "$tmp/f_rest.f1.json" move) == 58 ]] ||
-    fail "force at rest: expected the step left out in 58 of 60 steps: $(grep -A4 left_out "$tmp/f_rest.f1.json")"
-[[ $(counter "$tmp/f_com.f3.json" rebuilds) == 1 && $(counter "$tmp/f_com.fref.json" rebuilds) -gt 1 ]] ||
-    fail "force moving as one: one list build expected, $(counter "$tmp/f_com.f3.json" rebuilds)"
-[[ $(left_out "$tmp/f_com.f1.json" walls) == 200 && $(left_out "$tmp/f_com.f1.json" task_graph) == 200 &&
-   $(left_out "$tmp/f_com.f3.json" task_graph) == 0 ]] ||
-    fail "force: walls and task_graph (1 thread) should be left out: $(grep -A4 left_out "$tmp/f_com.f1.json")"
+same_without_skips force f_rest f_com bouncing
+[[ $(left_out "$tmp/f_rest.force1.json" move) == 58 ]] ||
+    fail "force at rest: expected the step left out in 58 of 60 steps: $(grep -A4 left_out "$tmp/f_rest.force1.json")"
+[[ $(counter "$tmp/f_com.force3.json" rebuilds) == 1 && $(counter "$tmp/f_com.force.ref.json" rebuilds) -gt 1 ]] ||
+    fail "force moving as one: one list build expected, $(counter "$tmp/f_com.force3.json" rebuilds)"
+[[ $(left_out "$tmp/f_com.force1.json" walls) == 200 && $(left_out "$tmp/f_com.force1.json" task_graph) == 200 &&
+   $(left_out "$tmp/f_com.force3.json" task_graph) == 0 ]] ||
+    fail "force: walls and task_graph (1 thread) should be left out: $(grep -A4 left_out "$tmp/f_com.force1.json")"
 
 # the run summary names what was left out
 "$PSIM" "$tmp/dilute.in" | grep -q "left out: search in 199 of 200 steps" || fail "no 'left out' line in the summary"
