@@ -138,13 +138,13 @@ printf '100\n10\n1\n5\nperf\n' >"$tmp/crowd.in"
 expect_fail --rc 1 "cannot place" "$PSIM" "$tmp/crowd.in"
 printf '200\n10\n1\n5\nperf\n' >"$tmp/over.in"
 expect_fail --rc 1 "cannot fit" "$PSIM" "$tmp/over.in"
-# a disk outside [r, L - r]^2 is refused (the wall rule would teleport it),
-# naming its line; a disk exactly touching a wall runs
+# a disk outside the box is refused (the wall rule would teleport it),
+# naming its line; disks touching or straddling a wall run
 printf '2\n20\n1\n5\n0 5 5 0.5 0\n1 -1000000 5 0.5 0\n' >"$tmp/out24.in"
 expect_fail --rc 1 "out24.in:6: disk 1 at (-1000000, 5) is outside" \
     "$PSIM" --model ccd --out "$tmp/x.out" "$tmp/out24.in"
 [[ ! -e $tmp/x.out ]] || fail "a refused scene left an output"
-printf '2\n20\n1\n5\n0 1 5 -0.5 0\n1 19 19 0.5 0.5\n' >"$tmp/wall24.in"
+printf '3\n20\n1\n5\n0 1 5 -0.5 0\n1 19 19 0.5 0.5\n2 0.5 10 -0.25 0\n' >"$tmp/wall24.in"
 run_ok "$PSIM" -q --model ccd --out "$tmp/wall24.out" "$tmp/wall24.in"
 expect_fail --rc 2 "unknown model" "$PSIM" --model nosuch "$tmp/free.in"
 expect_fail --rc 2 "--substeps" "$PSIM" --substeps 0 "$tmp/free.in"

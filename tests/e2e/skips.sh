@@ -39,7 +39,7 @@ write("nonfinite", 800, 1, 20, [(10 + 20 * (k % 40), 10 + 20 * (k // 40),
 # ccd: at rest; a block moving as one into the walls
 random.seed(5)
 write("c_rest", 60, 1, 40, [(random.uniform(1, 59), random.uniform(1, 59), 0.0, -0.0)
-                            for k in range(300)])
+                            for k in range(300)] + [(-0.0, 30.0, 0.0, 0.0)])
 # a block moving as one into the walls: pairs skipped until it bounces
 write("c_wall", 100, 1, 300, [(20 + 2.5 * (k % 20), 20 + 2.5 * (k // 20), 0.3, -0.2)
                               for k in range(400)])
@@ -126,8 +126,8 @@ same_without_skips()
 }
 same_without_skips ccd c_rest c_wall comoving approach bouncing
 j=$tmp/c_rest.ccd1.json
-[[ $(left_out "$j" move) == 40 && $(left_out "$j" pairs) == 40 ]] ||
-    fail "ccd at rest: expected move and pairs left out in all 40 steps: $(grep -A4 left_out "$j")"
+[[ $(left_out "$j" move) == 39 && $(left_out "$j" pairs) == 40 ]] ||
+    fail "ccd at rest: expected move left out in 39 of 40 steps (the first turns -0 into +0), pairs in 40: $(grep -A4 left_out "$j")"
 j=$tmp/c_wall.ccd3.json
 p=$(left_out "$j" pairs)
 ((p > 50 && p < 300 && $(counter "$j" wall_collisions) > 0)) ||

@@ -84,15 +84,17 @@ static void destroy(void *p)
     free(m);
 }
 
-/* The first disk whose centre is outside [r, L - r]^2 (NaN too), or -1.
- * The authors' wall time (x - r) / -vx is not limited to the step, so such
- * a disk would jump to the wall from any distance: psim refuses the scene,
- * as the event model refuses overlaps. */
+/* The first disk whose centre is outside the box [0, L]^2 (NaN too), or
+ * -1.  The authors' wall time (x - r) / -vx is not limited to the step, so
+ * a disk outside would jump to the wall from any distance (a disk at
+ * x = -1e6 moving at 0.5 reached x = 999927.5 in five steps): psim refuses
+ * the scene, as the event model refuses overlaps.  Disks that straddle a
+ * wall (centre within r of it, as in the course's scenes) run as the
+ * authors' program runs them. */
 static long first_outside(const psim_scene *sc)
 {
-    const double lo = sc->r, hi = sc->L - sc->r;
     for (long i = 0; i < sc->n; i++)
-        if (!(sc->x[i] >= lo && sc->x[i] <= hi && sc->y[i] >= lo && sc->y[i] <= hi))
+        if (!(sc->x[i] >= 0 && sc->x[i] <= sc->L && sc->y[i] >= 0 && sc->y[i] <= sc->L))
             return i;
     return -1;
 }
@@ -104,9 +106,9 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
         char at[320] = "";
         if (sc->source && sc->line)
             snprintf(at, sizeof at, "%s:%ld: ", sc->source, sc->line[out]);
-        psim_error_set(err, "%sdisk %ld at (%.17g, %.17g) is outside [r, L - r]^2 = [%.17g, %.17g]^2: "
-                            "the ccd model's wall rule needs every disk inside the box",
-                       at, out, sc->x[out], sc->y[out], sc->r, sc->L - sc->r);
+        psim_error_set(err, "%sdisk %ld at (%.17g, %.17g) is outside the box [0, %.17g]^2: "
+                            "the ccd model's wall rule needs every centre inside it",
+                       at, out, sc->x[out], sc->y[out], sc->L);
         return NULL;
     }
     cmodel *m = calloc(1, sizeof *m);
@@ -144,8 +146,9 @@ oom:
 
 /* A step.  Where the scene cannot use a stage it is left out (the same
  * bytes as without: tests/e2e/skips.sh):
- *   move   every velocity is 0: no candidate, and x + 0 = x for every disk
- *          inside the box, so nothing at all happens;
+ *   move   every velocity is 0: no candidate, and after one such step
+ *          (which may turn a -0 position into +0) x + 0 = x for every
+ *          disk, so nothing at all happens;
  *   pairs  every disk has the same velocity: no pair approaches (|dv|^2 =
  *          0 gives no candidate), so the sort and the pair search are left
  *          out and only walls are found (in any order of the store: the
@@ -156,8 +159,12 @@ static int interact(psim_sim *e, void *p, psim_error *err)
     int regridded = 0, same, zero, rc = 0;
     double vmax = 0;
     PSIM_TIMED(e, CPHASE_DETECT, vmax = velocities(e, &same, &zero));
-    same &= m->skip, zero &= m->skip && m->r > 0;   /* r > 0: no disk at -0 */
-    if (zero) {
+    same &= m->skip, zero &= m->skip;
+    /* the first step at rest still runs: its move turns a -0 position
+     * into +0 (x + 0), after which x + 0 = x for every disk */
+    int rest = zero && m->still;
+    m->still = zero;
+    if (rest) {
         e->stats.skipped[CS_MOVE]++;
         e->stats.skipped[CS_PAIRS]++;
         return 0;

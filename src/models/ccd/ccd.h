@@ -105,6 +105,7 @@ typedef struct cmodel {
     int64_t *pcoll, *wcoll; /* per id: collisions so far */
     ccd_accept_mode accept_mode;
     int skip;               /* leave out what the scene cannot use (-O skip) */
+    int still;              /* the last step had every velocity 0 */
     int oom;                /* a list could not grow this step */
 } cmodel;
 
