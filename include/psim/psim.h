@@ -54,6 +54,9 @@ typedef struct psim_scene {
 /* Allocate the arrays of a scene of n particles (zeroed). */
 int psim_scene_alloc(psim_scene *sc, long n, psim_error *err);
 void psim_scene_free(psim_scene *sc);
+/* "FILE:LINE: " of particle i into buf (an error message's prefix), or ""
+ * for a scene that was made, not read. */
+void psim_scene_where(const psim_scene *sc, long i, char *buf, size_t size);
 
 /* Read a scene of either format (detected by the fifth line: a word
  * "print" or "perf" makes it a 2019 scene, whose particle lines may be

@@ -33,6 +33,9 @@ typedef struct psim_model_option {
     double lo, hi;
 } psim_model_option;
 
+/* The option that turns a model's skips off (tests compare the bytes). */
+#define PSIM_SKIP_OPTION {"skip", "0: never leave out a stage the scene cannot use (for tests)", 0, 1}
+
 /* A stage a model leaves out when the scene cannot use it (psim_stats). */
 typedef struct psim_model_skip {
     const char *stage, *why;

@@ -311,6 +311,15 @@ int psim_scene_alloc(psim_scene *sc, long n, psim_error *err)
     return 0;
 }
 
+void psim_scene_where(const psim_scene *sc, long i, char *buf, size_t size)
+{
+    if (size == 0)
+        return;
+    buf[0] = '\0';
+    if (sc->source && sc->line)
+        snprintf(buf, size, "%s:%ld: ", sc->source, sc->line[i]);
+}
+
 void psim_scene_free(psim_scene *sc)
 {
     free(sc->x);

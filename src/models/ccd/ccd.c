@@ -103,9 +103,8 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
 {
     long out = first_outside(sc);
     if (out >= 0) {
-        char at[320] = "";
-        if (sc->source && sc->line)
-            snprintf(at, sizeof at, "%s:%ld: ", sc->source, sc->line[out]);
+        char at[320];
+        psim_scene_where(sc, out, at, sizeof at);
         psim_error_set(err, "%sdisk %ld at (%.17g, %.17g) is outside the box [0, %.17g]^2: "
                             "the ccd model's wall rule needs every centre inside it",
                        at, out, sc->x[out], sc->y[out], sc->L);
@@ -232,7 +231,7 @@ const psim_model psim_model_ccd = {
                  "wall_collisions", "accept_rounds", "tasks", "regrids", NULL},
     .output = {.to_stdout = 1, .initial = 1, .every_step = 1, .final = 1},
     .output_digits = 8,
-    .options = {{"skip", "0: never leave out a stage the scene cannot use (for tests)", 0, 1}},
+    .options = {PSIM_SKIP_OPTION},
     .skips = {[CS_PAIRS] = {"pairs", "one velocity for all: sort and pair search"},
               [CS_MOVE] = {"move", "every velocity 0: nothing moves"},
               [CS_GRAPH] = {"task_graph", "one thread: detection runs in order, no tasks"}},

@@ -146,7 +146,8 @@ static int check_moves_and_walls(const psim_snapshot *b, const psim_snapshot *a,
 typedef struct gsum {
     double e0, e1, px0, px1, py0, py1;
     double vmax;   /* largest velocity component, before or after */
-    int wall, scaled;
+    double scale;  /* 0, or the power of two its energy was summed in */
+    int wall;
 } gsum;
 
 static double max4(double a, double b, double c, double d)
@@ -168,16 +169,15 @@ static void rescale_overflowed(const psim_snapshot *b, const psim_snapshot *a, l
             continue;
         int ex;
         frexp(s->vmax, &ex);
-        s->vmax = ldexp(1.0, -ex);   /* now the factor: exact, as a power of two */
+        s->scale = ldexp(1.0, -ex);   /* exact, as a power of two */
         s->e0 = s->e1 = 0;
-        s->scaled = 1;
         any = 1;
     }
     for (long i = 0; any && i < a->n; i++) {
         gsum *s = &g[find(parent, i)];
-        if (!s->scaled)
+        if (!s->scale)
             continue;
-        double k = s->vmax, u = b->vx[i] * k, v = b->vy[i] * k, w = a->vx[i] * k,
+        double k = s->scale, u = b->vx[i] * k, v = b->vy[i] * k, w = a->vx[i] * k,
                z = a->vy[i] * k;
         s->e0 += u * u + v * v;
         s->e1 += w * w + z * z;
@@ -201,7 +201,7 @@ static int check_groups(const psim_snapshot *b, const psim_snapshot *a,
         s->px1 += a->vx[i];
         s->py0 += b->vy[i];
         s->py1 += a->vy[i];
-        s->vmax = fmax(s->vmax, fmax(max4(b->vx[i], b->vy[i], a->vx[i], a->vy[i]), 0));
+        s->vmax = fmax(s->vmax, max4(b->vx[i], b->vy[i], a->vx[i], a->vy[i]));
         s->wall |= (a->x[i] - r <= 0) || (a->x[i] + r >= L) ||
                    (a->y[i] - r <= 0) || (a->y[i] + r >= L);
     }
@@ -211,12 +211,12 @@ static int check_groups(const psim_snapshot *b, const psim_snapshot *a,
         if (find(parent, i) != i)
             continue;
         const gsum *s = &g[i];
-        if (s->scaled ? !(fabs(s->e0 - s->e1) <= TOL * fmax(s->e0, s->e1))
+        if (s->scale ? !(fabs(s->e0 - s->e1) <= TOL * fmax(s->e0, s->e1))
                       : !close_enough(s->e0, s->e1)) {
             psim_error_set(err,
                 "check failed at step %ld: group of particle %ld: energy %.17g "
                 "before, %.17g after%s", step, i, s->e0, s->e1,
-                s->scaled ? " (in units of a power of two: the sum overflowed)" : "");
+                s->scale ? " (in units of a power of two: the sum overflowed)" : "");
             rc = -1;
         } else if (!s->wall && (!close_enough(s->px0, s->px1) ||
                                 !close_enough(s->py0, s->py1))) {

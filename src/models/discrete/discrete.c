@@ -194,7 +194,7 @@ const psim_model psim_model_discrete = {
                  "wall_resolutions", "tasks", "max_step_resolutions", NULL},
     .options = {{"settle", "resolutions a step may take per disk before the run stops "
                            "(default 1000)", 1, 1e9},
-                {"skip", "0: never leave out a stage the scene cannot use (for tests)", 0, 1},
+                PSIM_SKIP_OPTION,
                 {NULL, NULL, 0, 0}},
     .skips = {[DS_SEARCH] = {"search", "no pair could meet: sort, contacts, resolution"},
               [DS_WALLS] = {"walls", "no disk could reach a wall"},

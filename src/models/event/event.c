@@ -139,11 +139,10 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
     long j = -1, i = first_overlap(m, &j);
     if (i >= 0) {
         double dx = m->d[j].x - m->d[i].x, dy = m->d[j].y - m->d[i].y;
-        char at[320] = "", also[48] = "";   /* "FILE:LINE: " and " (line LINE)" */
-        if (sc->source && sc->line) {
-            snprintf(at, sizeof at, "%s:%ld: ", sc->source, sc->line[i]);
+        char at[320], also[48] = "";   /* "FILE:LINE: " and " (line LINE)" */
+        psim_scene_where(sc, i, at, sizeof at);
+        if (sc->line)
             snprintf(also, sizeof also, " (line %ld)", sc->line[j]);
-        }
         psim_error_set(err, "%sdisk %ld overlaps disk %ld%s: squared distance of centres %.17g, "
                             "less than (2r)^2 = %.17g (the event model needs a scene without "
                             "overlaps: psim gen --place nonoverlap or lattice)",

@@ -223,7 +223,7 @@ const psim_model psim_model_force = {
                 {"skin", "neighbour list skin, in cutoffs (default 2)", 0, 1e6},
                 {"naive", "1: the course's O(n^2) loops (for tests)", 0, 1},
                 {"stats", "1: the older edition's absmin/absavg (--force-stats)", 0, 1},
-                {"skip", "0: never leave out a stage the scene cannot use (for tests)", 0, 1},
+                PSIM_SKIP_OPTION,
                 {NULL, NULL, 0, 0}},
     .skips = {[FS_MOVE] = {"move", "at rest: no force, no speed"},
               [FS_WALLS] = {"walls", "no particle crossed a wall: no reflections"},

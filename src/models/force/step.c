@@ -164,9 +164,10 @@ static int tile_sum(ftile *t)
 }
 
 /* The course's move of particles [q0, q1) of the tile, in place: kicks
- * and drifts two at a time, with the largest squared speed (into *v2max,
- * a bound for the lists) and whether one is outside [0, size]^2 (NaN left
- * out of both, as the course's comparisons leave it), in one pass; then
+ * and drifts two at a time, with the largest squared speed and the
+ * velocities' extent (into the tile: bounds for the lists) and whether
+ * one is outside [0, size]^2 (NaN left out of all three, as the course's
+ * comparisons leave it), in one pass; then
  * the reflections (rare: a particle that crossed a wall), in a chunk that
  * has one.  Returns whether one left the box for good. */
 #define MOVE_CHUNK 64
