@@ -85,15 +85,23 @@ __attribute__((noinline)) size_t psim_sort_by_cell(psim_sorter *so,
 #pragma omp for schedule(static)
         for (int c = 0; c < C; c++) {
             double t0 = psim_now();
-            uint32_t *h = so->hist + (size_t)c * B;
+            uint32_t *restrict h = so->hist + (size_t)c * B;
+            /* the arrays in registers: a store through one cannot move another */
+            const double *restrict x = st->x, *restrict y = st->y, *restrict vx = st->vx,
+                                   *restrict vy = st->vy;
+            double *restrict x2 = st->x2, *restrict y2 = st->y2, *restrict vx2 = st->vx2,
+                           *restrict vy2 = st->vy2;
+            const uint32_t *restrict cell = st->cell;
+            const int32_t *restrict id = st->id;
+            int32_t *restrict id2 = st->id2;
             for (size_t i = psim_part_lo(n, C, c); i < psim_part_lo(n, C, c + 1); i++) {
-                uint32_t d = h[st->cell[i]]++;
+                uint32_t d = h[cell[i]]++;
                 moved += (d != i);
-                st->x2[d] = st->x[i];
-                st->y2[d] = st->y[i];
-                st->vx2[d] = st->vx[i];
-                st->vy2[d] = st->vy[i];
-                st->id2[d] = st->id[i];
+                x2[d] = x[i];
+                y2[d] = y[i];
+                vx2[d] = vx[i];
+                vy2[d] = vy[i];
+                id2[d] = id[i];
             }
             psim_tstat_add(ts, PSIM_PHASE_SORT, psim_now() - t0, 1, 0);
         }

@@ -65,6 +65,7 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
     m->naive = psim_engine_option(e, "naive", 0) != 0;
     m->stats = psim_engine_option(e, "stats", 0) != 0;
     m->skip = psim_engine_option(e, "skip", 1) != 0;
+    m->simd = psim_engine_option(e, "simd", 1) != 0 && force_have_avx512();
     m->absmin = 1.0;
     if (m->naive) {
         if (force_plan_naive(m, e->n))
@@ -223,6 +224,7 @@ const psim_model psim_model_force = {
                 {"skin", "neighbour list skin, in cutoffs (default 2)", 0, 1e6},
                 {"naive", "1: the course's O(n^2) loops (for tests)", 0, 1},
                 {"stats", "1: the older edition's absmin/absavg (--force-stats)", 0, 1},
+                {"simd", "0: list builds without AVX-512 even where the CPU has it (same results)", 0, 1},
                 PSIM_SKIP_OPTION,
                 {NULL, NULL, 0, 0}},
     .skips = {[FS_MOVE] = {"move", "at rest: no force, no speed"},

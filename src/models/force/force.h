@@ -103,6 +103,7 @@ typedef struct ftile {
 typedef struct fmodel {
     flaw law;
     int naive, stats, skip;
+    int simd;               /* list builds with AVX-512 (nlist.c) */
     double skin;            /* list radius = cutoff + skin */
     double drift;           /* bound on half of any pair's relative
                              * displacement since the build */
@@ -128,6 +129,23 @@ static inline double force_drift_bound(const fmodel *m)
 {
     return m->drift + (double)(m->since_build + 1) * 8 * DBL_EPSILON * m->law.size;
 }
+
+/* The list builds have an AVX-512 path where the compiler can target it
+ * (chosen at run time, on a CPU that has it; same lists either way). */
+#if defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__))
+#define PSIM_FORCE_AVX512 1
+static inline int force_have_avx512(void)
+{
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl");
+}
+#else
+#define PSIM_FORCE_AVX512 0
+static inline int force_have_avx512(void)
+{
+    return 0;
+}
+#endif
 
 /* nlist.c: 0, -1 out of memory, -2 past the budget (crowded) */
 int force_build_lists(psim_sim *e, fmodel *m);

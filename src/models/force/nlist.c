@@ -207,21 +207,13 @@ static int list_extra(const psim_store *s, ftile *t, int lx, int ly, uint32_t o,
     return 0;
 }
 
-/* The pairs of window cell (lx, ly)'s slotted particles with the slots of
- * the forward half: the later slots of the cell and the cell to the east
- * (2 SLOTS contiguous slots), the three cells above (3 SLOTS), tested
- * without a branch; then its extras. */
-static int list_cell(const psim_store *s, ftile *t, int lx, int ly, const double *thr)
+/* The slotted particles' pairs of one cell, SSE2 (or scalar): each
+ * particle's distances to the forward half as a mask, then its pairs
+ * filed one by one. */
+static void list_slots_sse2(ftile *t, const double *ox, const double *oy, const uint32_t *oj,
+                            const double *ux, const double *uy, const uint32_t *uj,
+                            uint32_t first, uint32_t ns, const double *thr)
 {
-    const uint32_t *w = t->win + 2 * ((size_t)ly * (size_t)t->W + (size_t)lx);
-    uint32_t cnt = w[1] - w[0], ns = cnt < SLOTS ? cnt : SLOTS;
-    if (cnt == 0)
-        return 0;
-    if (reserve_pairs(t, (size_t)ns * 5 * SLOTS))
-        return -1;
-    size_t own = row_at(t, ly) + (size_t)lx * SLOTS, up = row_at(t, ly + 1) + (size_t)(lx - 1) * SLOTS;
-    const double *ox = t->rx + own, *oy = t->ry + own, *ux = t->rx + up, *uy = t->ry + up;
-    const uint32_t *oj = t->rj + own, *uj = t->rj + up;
     const double reach2 = thr[FORCE_BUCKETS - 1], t0 = thr[0], t1 = thr[1], t2 = thr[2];
     fpair *wp[FORCE_BUCKETS];   /* write cursors, in registers or L1 */
     for (int b = 0; b < FORCE_BUCKETS; b++)
@@ -233,11 +225,105 @@ static int list_cell(const psim_store *s, ftile *t, int lx, int ly, const double
         for (; m; m &= m - 1) {
             int q = __builtin_ctz(m);
             int b = (r2[q] > t0) + (r2[q] > t1) + (r2[q] > t2);
-            *wp[b]++ = (fpair){w[0] + k, q < 2 * SLOTS ? oj[q] : uj[q - 2 * SLOTS]};
+            *wp[b]++ = (fpair){first + k, q < 2 * SLOTS ? oj[q] : uj[q - 2 * SLOTS]};
         }
     }
     for (int b = 0; b < FORCE_BUCKETS; b++)
         t->len[b] = (size_t)(wp[b] - t->pair[b]);
+}
+
+#if PSIM_FORCE_AVX512
+#include <immintrin.h>
+_Static_assert(2 * SLOTS == 8, "one vector of eight slots: the cell and the one to the east");
+_Static_assert(sizeof(fpair) == 8 && offsetof(fpair, j) == 4, "a pair is one 64-bit lane");
+/* (no auto-vectorising: it would store the cursors and load them back as one
+ * vector, a store-forwarding stall per cell) */
+#define AVX512 __attribute__((target("avx512f,avx512vl,popcnt"), optimize("no-tree-vectorize")))
+
+/* File the pairs of particle i with the slots of one vector: shell by
+ * shell, the lanes of `hit` in that shell compressed to the front of a
+ * vector stored at the shell's cursor (room for eight past it reserved). */
+AVX512 static inline void file_lanes(fpair **wp, __mmask8 hit, __m512d d2, __m256i js,
+                                     uint32_t i, const double *thr)
+{
+    __m512i pair = _mm512_or_si512(_mm512_slli_epi64(_mm512_cvtepu32_epi64(js), 32),
+                                   _mm512_set1_epi64(i));
+    __mmask8 inner = 0;
+    for (int b = 0; b < FORCE_BUCKETS - 1; b++) {
+        __mmask8 le = _mm512_mask_cmp_pd_mask(hit, d2, _mm512_set1_pd(thr[b]), _CMP_LE_OQ);
+        __mmask8 sh = le & (__mmask8)~inner;
+        _mm512_storeu_si512(wp[b], _mm512_maskz_compress_epi64(sh, pair));
+        wp[b] += __builtin_popcount(sh);
+        inner = le;
+    }
+    __mmask8 sh = hit & (__mmask8)~inner;
+    _mm512_storeu_si512(wp[FORCE_BUCKETS - 1], _mm512_maskz_compress_epi64(sh, pair));
+    wp[FORCE_BUCKETS - 1] += __builtin_popcount(sh);
+}
+
+/* The same pairs as list_slots_sse2, eight slots a vector: the cell and
+ * the one to the east in one, the three above in one and a half. */
+AVX512 static void list_slots_avx512(ftile *t, const double *ox, const double *oy,
+                                     const uint32_t *oj, const double *ux, const double *uy,
+                                     const uint32_t *uj, uint32_t first, uint32_t ns,
+                                     const double *thr)
+{
+    fpair *wp[FORCE_BUCKETS];
+    for (int b = 0; b < FORCE_BUCKETS; b++)
+        wp[b] = t->pair[b] + t->len[b];
+    const __m512d vr = _mm512_set1_pd(thr[FORCE_BUCKETS - 1]);
+    const __m512d ax = _mm512_loadu_pd(ox), ay = _mm512_loadu_pd(oy);
+    const __m512d bx = _mm512_loadu_pd(ux), by = _mm512_loadu_pd(uy);
+    const __m512d cx = _mm512_maskz_loadu_pd(0x0f, ux + 8), cy = _mm512_maskz_loadu_pd(0x0f, uy + 8);
+    const __m256i aj = _mm256_loadu_si256((const __m256i *)oj);
+    const __m256i bj = _mm256_loadu_si256((const __m256i *)uj);
+    const __m256i cj = _mm256_maskz_loadu_epi32(0x0f, uj + 8);
+    for (uint32_t k = 0; k < ns; k++) {
+        __m512d px = _mm512_set1_pd(ox[k]), py = _mm512_set1_pd(oy[k]);
+        __m512d dx = _mm512_sub_pd(ax, px), dy = _mm512_sub_pd(ay, py);
+        __m512d da = _mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy));
+        dx = _mm512_sub_pd(bx, px), dy = _mm512_sub_pd(by, py);
+        __m512d db = _mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy));
+        dx = _mm512_sub_pd(cx, px), dy = _mm512_sub_pd(cy, py);
+        __m512d dc = _mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy));
+        __mmask8 ha = _mm512_cmp_pd_mask(da, vr, _CMP_LE_OQ) & (__mmask8)~((2u << k) - 1);
+        __mmask8 hb = _mm512_cmp_pd_mask(db, vr, _CMP_LE_OQ);
+        __mmask8 hc = _mm512_mask_cmp_pd_mask(0x0f, dc, vr, _CMP_LE_OQ);
+        if (ha)
+            file_lanes(wp, ha, da, aj, first + k, thr);
+        if (hb)
+            file_lanes(wp, hb, db, bj, first + k, thr);
+        if (hc)
+            file_lanes(wp, hc, dc, cj, first + k, thr);
+    }
+    for (int b = 0; b < FORCE_BUCKETS; b++)
+        t->len[b] = (size_t)(wp[b] - t->pair[b]);
+}
+#endif
+
+/* The pairs of window cell (lx, ly)'s slotted particles with the slots of
+ * the forward half: the later slots of the cell and the cell to the east
+ * (2 SLOTS contiguous slots), the three cells above (3 SLOTS), tested
+ * without a branch; then its extras. */
+static int list_cell(const psim_store *s, ftile *t, int lx, int ly, const double *thr, int simd)
+{
+    const uint32_t *w = t->win + 2 * ((size_t)ly * (size_t)t->W + (size_t)lx);
+    uint32_t cnt = w[1] - w[0], ns = cnt < SLOTS ? cnt : SLOTS;
+    if (cnt == 0)
+        return 0;
+    /* the vector path stores eight pairs past a shell's cursor */
+    if (reserve_pairs(t, (size_t)ns * 5 * SLOTS + 8))
+        return -1;
+    size_t own = row_at(t, ly) + (size_t)lx * SLOTS, up = row_at(t, ly + 1) + (size_t)(lx - 1) * SLOTS;
+    const double *ox = t->rx + own, *oy = t->ry + own, *ux = t->rx + up, *uy = t->ry + up;
+    const uint32_t *oj = t->rj + own, *uj = t->rj + up;
+#if PSIM_FORCE_AVX512
+    if (simd)
+        list_slots_avx512(t, ox, oy, oj, ux, uy, uj, w[0], ns, thr);
+    else
+#endif
+        list_slots_sse2(t, ox, oy, oj, ux, uy, uj, w[0], ns, thr);
+    (void)simd;
     for (uint32_t o = w[0] + SLOTS; o < w[1]; o++)
         if (list_extra(s, t, lx, ly, o, thr))
             return -1;
@@ -246,7 +332,7 @@ static int list_cell(const psim_store *s, ftile *t, int lx, int ly, const double
 
 /* The tile's cells row by row, with the slot rows of the row below, its
  * own and the row above. */
-static int list_tile(const psim_sim *e, ftile *t, uint32_t tile, const double *thr)
+static int list_tile(const psim_sim *e, ftile *t, uint32_t tile, const double *thr, int simd)
 {
     for (int b = 0; b < FORCE_BUCKETS; b++)
         t->len[b] = 0;
@@ -261,7 +347,7 @@ static int list_tile(const psim_sim *e, ftile *t, uint32_t tile, const double *t
     for (int ly = 1; ly <= S; ly++) {
         fill_row(&e->st, t, ly + 1);
         for (int lx = 1; lx <= S; lx++)
-            if (list_cell(&e->st, t, lx, ly, thr))
+            if (list_cell(&e->st, t, lx, ly, thr, simd))
                 return -1;
     }
     return 0;
@@ -284,14 +370,15 @@ int force_build_lists(psim_sim *e, fmodel *m)
     int oom = 0;
     psim_thread_stats *ts = e->tstats;
     const int graph = e->threads > 1;   /* one thread: the same calls in order */
+    const int simd = m->simd;
 #pragma omp parallel num_threads(e->threads) if (graph)
 #pragma omp single
     for (uint32_t t = 0; t < m->ntiles; t++) {
         ftile *ft = &m->tiles[t];
-#pragma omp task firstprivate(ft, t) shared(thr) shared(oom, ts, e) default(none) if (graph)
+#pragma omp task firstprivate(ft, t) firstprivate(simd) shared(thr) shared(oom, ts, e) default(none) if (graph)
         {
             double b0 = psim_now();
-            if (list_tile(e, ft, t, thr)) {
+            if (list_tile(e, ft, t, thr, simd)) {
 #pragma omp atomic write
                 oom = 1;
             }
