@@ -93,6 +93,15 @@ _Static_assert(FORCE_BUCKETS == 4, "list_cell files pairs by three thresholds");
 /* Position of an empty slot: farther than any reach from any particle. */
 #define FAR 1e300
 
+#if PSIM_FORCE_AVX512
+#include <immintrin.h>
+_Static_assert(SLOTS == 4 && 2 * SLOTS == 8, "a cell is half a vector of eight slots");
+_Static_assert(sizeof(fpair) == 8 && offsetof(fpair, j) == 4, "a pair is one 64-bit lane");
+/* (no auto-vectorising: it would store the cursors and load them back as one
+ * vector, a store-forwarding stall per cell) */
+#define AVX512 __attribute__((target("avx512f,avx512vl,popcnt"), optimize("no-tree-vectorize")))
+#endif
+
 static int reserve_rows(ftile *t)
 {
     size_t need = 3 * (size_t)t->W * SLOTS;
@@ -127,6 +136,39 @@ static void fill_row(const psim_store *s, ftile *t, int ly)
             rj[q] = k < n ? w[0] + k : 0;
         }
     }
+}
+
+#if PSIM_FORCE_AVX512
+/* fill_row, a cell at a time: masked loads, the empty slots FAR. */
+AVX512 static void fill_row_avx512(const psim_store *s, ftile *t, int ly)
+{
+    size_t base = row_at(t, ly);
+    double *rx = t->rx + base, *ry = t->ry + base;
+    uint32_t *rj = t->rj + base;
+    const __m256d far = _mm256_set1_pd(FAR);
+    const __m128i lane = _mm_setr_epi32(0, 1, 2, 3);
+    const uint32_t *w = t->win + 2 * (size_t)ly * (size_t)t->W;
+    for (int lx = 0; lx < t->W; lx++, w += 2) {
+        uint32_t n = w[1] - w[0] < SLOTS ? w[1] - w[0] : SLOTS;
+        __mmask8 k = (__mmask8)((1u << n) - 1);
+        _mm256_storeu_pd(rx + (size_t)lx * SLOTS, _mm256_mask_loadu_pd(far, k, s->x + w[0]));
+        _mm256_storeu_pd(ry + (size_t)lx * SLOTS, _mm256_mask_loadu_pd(far, k, s->y + w[0]));
+        _mm_storeu_si128((__m128i *)(rj + (size_t)lx * SLOTS),
+                         _mm_maskz_add_epi32(k, _mm_set1_epi32((int)w[0]), lane));
+    }
+}
+#endif
+
+static void fill(const psim_store *s, ftile *t, int ly, int simd)
+{
+#if PSIM_FORCE_AVX512
+    if (simd) {
+        fill_row_avx512(s, t, ly);
+        return;
+    }
+#endif
+    (void)simd;
+    fill_row(s, t, ly);
 }
 
 /* Which of the n slots (x, y) are within reach (r2 <= reach2) of (px, py),
@@ -233,12 +275,6 @@ static void list_slots_sse2(ftile *t, const double *ox, const double *oy, const 
 }
 
 #if PSIM_FORCE_AVX512
-#include <immintrin.h>
-_Static_assert(2 * SLOTS == 8, "one vector of eight slots: the cell and the one to the east");
-_Static_assert(sizeof(fpair) == 8 && offsetof(fpair, j) == 4, "a pair is one 64-bit lane");
-/* (no auto-vectorising: it would store the cursors and load them back as one
- * vector, a store-forwarding stall per cell) */
-#define AVX512 __attribute__((target("avx512f,avx512vl,popcnt"), optimize("no-tree-vectorize")))
 
 /* File the pairs of particle i with the slots of one vector: shell by
  * shell, the lanes of `hit` in that shell compressed to the front of a
@@ -342,10 +378,10 @@ static int list_tile(const psim_sim *e, ftile *t, uint32_t tile, const double *t
     if (plan_window(e, t, tile) || reserve_rows(t))
         return -1;
     int S = t->W - 2;
-    fill_row(&e->st, t, 0);
-    fill_row(&e->st, t, 1);
+    fill(&e->st, t, 0, simd);
+    fill(&e->st, t, 1, simd);
     for (int ly = 1; ly <= S; ly++) {
-        fill_row(&e->st, t, ly + 1);
+        fill(&e->st, t, ly + 1, simd);
         for (int lx = 1; lx <= S; lx++)
             if (list_cell(&e->st, t, lx, ly, thr, simd))
                 return -1;
