@@ -15,6 +15,8 @@ extern "C" {
 #endif
 
 #define PSIM_VERSION "0.1.0"
+/* The most steps a run may have (--steps, -s, a scene's S). */
+#define PSIM_MAX_STEPS 1000000000L
 
 /* One error message, "FILE:LINE: what" where a file is involved. */
 typedef struct psim_error {

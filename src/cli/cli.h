@@ -10,6 +10,13 @@ int cli_gen(int argc, char **argv);   /* psim gen [OPTIONS] */
 int cli_plan(int argc, char **argv);  /* psim plan | psim topo */
 int cli_models(int argc, char **argv); /* psim models */
 
+/* The most threads psim runs (--threads, THREADS, OMP_NUM_THREADS). */
+#define CLI_MAX_THREADS 4096
+/* OMP_NUM_THREADS, if set, within 1..CLI_MAX_THREADS (its first number:
+ * the runtime gives the outer level that many threads); one error line
+ * and -1 if not. */
+int cli_env_threads(void);
+
 /* Strict number parsing for option values: print one error line and
  * return -1 when text is not a number in [lo, hi]. */
 int cli_long(const char *opt, const char *text, long lo, long hi, long *out);
@@ -24,8 +31,9 @@ void cli_bad_option(const char *cmd, char **argv, int c);
  * path that does not exist yet; a symbolic link is followed) is written to a
  * temporary file beside it and renamed into place by outfile_commit_all;
  * anything else (a device, a FIFO) is written directly; "-" is standard
- * output.  Temporary files are removed on failure and on SIGINT, SIGTERM
- * and SIGHUP. */
+ * output.  Temporary files are removed on failure and on the signals that
+ * end a run (INT, TERM, HUP, QUIT, PIPE, ALRM, XCPU, XFSZ, VTALRM, PROF,
+ * USR1, USR2). */
 typedef struct outfile {
     char *path, *tmp;   /* tmp is NULL when writing directly */
     const char *name;   /* for messages */

@@ -1,9 +1,14 @@
-/* psim: entry point; dispatches to the subcommands. */
+/* psim: entry point; checks the environment's thread count, dispatches
+ * to the subcommands and reports a standard output that could not be
+ * written (a full disk, /dev/full, a closed pipe). */
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "cli.h"
 
-int main(int argc, char **argv)
+static int command(int argc, char **argv)
 {
     if (argc > 1 && strcmp(argv[1], "gen") == 0)
         return cli_gen(argc - 1, argv + 1);
@@ -14,4 +19,16 @@ int main(int argc, char **argv)
     if (argc > 1 && strcmp(argv[1], "run") == 0)
         return cli_run(argc - 1, argv + 1);
     return cli_run(argc, argv);
+}
+
+int main(int argc, char **argv)
+{
+    if (cli_env_threads())
+        return 2;
+    int rc = command(argc, argv);
+    if ((fflush(stdout) != 0 || ferror(stdout)) && rc == 0) {
+        fprintf(stderr, "psim: <stdout>: write failed: %s\n", strerror(errno ? errno : EIO));
+        rc = 1;
+    }
+    return rc;
 }

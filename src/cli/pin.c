@@ -155,7 +155,7 @@ int cli_plan(int argc, char **argv)
             plan_usage(stdout, cmd);
             return 0;
         } else if (c == 't' && !topo_only) {
-            if (cli_long("--threads", optarg, 1, 4096, &threads))
+            if (cli_long("--threads", optarg, 1, CLI_MAX_THREADS, &threads))
                 return 2;
         } else if ((c == CLI_OPT_PIN && !topo_only) || c == CLI_OPT_TOPOLOGY) {
             if (cli_pin_option(&p, c, optarg))

@@ -190,7 +190,7 @@ static int resolve_s(run_opts *o)
         fprintf(stderr, "psim: -s and --steps both give the steps\n");
         return -1;
     }
-    return cli_long("-s", o->s_text, 0, 1000000000L, &o->steps);
+    return cli_long("-s", o->s_text, 0, PSIM_MAX_STEPS, &o->steps);
 }
 
 static int parse_run(int argc, char **argv, run_opts *o)
@@ -230,9 +230,9 @@ static int parse_run(int argc, char **argv, run_opts *o)
             o->model = optarg;
             break;
         case 'K': if (cli_long("--substeps", optarg, 1, 1000000, &o->substeps)) return 2; break;
-        case 't': if (cli_long("--threads", optarg, 1, 4096, &o->threads)) return 2; break;
+        case 't': if (cli_long("--threads", optarg, 1, CLI_MAX_THREADS, &o->threads)) return 2; break;
         case 's': o->s_text = optarg; break;
-        case 'P': if (cli_long("--steps", optarg, 0, 1000000000L, &o->steps)) return 2; break;
+        case 'P': if (cli_long("--steps", optarg, 0, PSIM_MAX_STEPS, &o->steps)) return 2; break;
         case 'n': if (cli_long("-n", optarg, 0, 1000000000L, &o->n)) return 2; break;
         case 'e': if (cli_seed("--seed", optarg, &o->seed)) return 2; o->seed_given = 1; break;
         case 'O': if (add_option(o, optarg)) return 2; break;
@@ -256,8 +256,8 @@ static int parse_run(int argc, char **argv, run_opts *o)
         case CLI_OPT_PIN: case CLI_OPT_TOPOLOGY: case CLI_OPT_MEM: case CLI_OPT_DRY_RUN:
             if (cli_pin_option(&o->pin, c, optarg)) return 2;
             break;
-        case 'h': run_usage(stdout); exit(0);
-        case 'V': printf("psim %s (%s, OpenMP %d)\n", PSIM_VERSION, psim_allocator(), _OPENMP); exit(0);
+        case 'h': run_usage(stdout); return -1;
+        case 'V': printf("psim %s (%s, OpenMP %d)\n", PSIM_VERSION, psim_allocator(), _OPENMP); return -1;
         default:
             cli_bad_option(NULL, argv, c);
             return 2;
@@ -265,6 +265,10 @@ static int parse_run(int argc, char **argv, run_opts *o)
     }
     if (resolve_s(o))
         return 2;
+    if (o->quiet && o->report) {
+        fprintf(stderr, "psim: -q prints nothing and --report prints the profile: give one of them\n");
+        return 2;
+    }
     int rest = argc - optind;
     if (rest > 2) {
         fprintf(stderr, "psim: too many arguments: '%s' (usage: psim [OPTIONS] [SCENE [THREADS]])\n",
@@ -283,7 +287,7 @@ static int parse_run(int argc, char **argv, run_opts *o)
     }
     if (rest == 2) {
         long t;
-        if (cli_long("THREADS", argv[optind + 1], 1, 4096, &t))
+        if (cli_long("THREADS", argv[optind + 1], 1, CLI_MAX_THREADS, &t))
             return 2;
         if (o->threads && o->threads != t) {
             fprintf(stderr, "psim: --threads %ld and THREADS %ld disagree\n", o->threads, t);
@@ -409,20 +413,41 @@ static int out_due(const run_state *rs, long k, long steps)
     return rs->print || (rs->style.period > 0 && (k - 1) % rs->style.period == 0);
 }
 
+/* "NAME: write failed: REASON", the reason from errno (EIO if none). */
+static void set_write_failed(psim_error *err, const char *name)
+{
+    int e = errno ? errno : EIO;
+    psim_error_set(err, "%s: write failed: %s", name, strerror(e));
+}
+
 /* The states due after step k of steps: the trace every step, the
  * model's output as its source writes it. */
 static int write_step(const run_opts *o, psim_sim *s, long k, long steps, run_state *rs,
                       psim_error *err)
 {
     if (rs->trace.f && write_trace(s, rs->trace.f, k, o->digits)) {
-        psim_error_set(err, "%s: write failed", o->trace);
+        set_write_failed(err, o->trace);
         return -1;
     }
     if (rs->out.f && out_due(rs, k, steps) && write_out(s, rs->out.f, k, 0, o->digits)) {
-        psim_error_set(err, "%s: write failed", rs->out.name);
+        set_write_failed(err, rs->out.name);
         return -1;
     }
     return 0;
+}
+
+/* The state is finite (0), or err names the disk that is not and, when
+ * the step before was not checked, the last step that was seen finite. */
+static int finite_since(const psim_sim *s, long checked, psim_error *err)
+{
+    if (psim_state_finite(s, err) == 0)
+        return 0;
+    if (psim_step_index(s) - checked > 1) {
+        psim_error first = *err;
+        psim_error_set(err, "%s (the state was last checked, and finite, after step %ld)",
+                       first.msg, checked);
+    }
+    return -1;
 }
 
 static int simulate(const run_opts *o, psim_sim *s, long steps, run_state *rs,
@@ -433,21 +458,37 @@ static int simulate(const run_opts *o, psim_sim *s, long steps, run_state *rs,
     int rc = 0;
     if (rs->out.f && (psim_write_header(s, rs->out.f) ||
                       (rs->style.initial && write_out(s, rs->out.f, 0, 0, o->digits)))) {
-        psim_error_set(err, "%s: write failed", rs->out.name);
+        set_write_failed(err, rs->out.name);
         rc = -1;
     }
-    /* states that are written every step are checked every step; the
-     * final one in any case */
+    /* A state that overflowed is found at the step it happened: states
+     * written every step are checked every step; otherwise as often as
+     * costs about 1% of the steps' time (a check reads the whole state,
+     * so every step where a step is cheap, every few where it is not);
+     * the final state in any case. */
     const int each = rs->trace.f || rs->print;
+    double check_s = 0, steps_s = 0;
+    long checked = 0;   /* the last step whose state was seen finite */
     for (long k = 1; k <= steps && rc == 0; k++) {
-        if (psim_step(s, err) || (each && psim_state_finite(s, err)) ||
-            write_step(o, s, k, steps, rs, err))
+        double t0 = psim_now();
+        if (psim_step(s, err)) {
+            rc = -1;
+            break;
+        }
+        steps_s += psim_now() - t0;
+        if (each || k == steps || 0.01 * steps_s >= check_s) {
+            double t1 = psim_now();
+            if (finite_since(s, checked, err)) {
+                rc = -1;
+                break;
+            }
+            check_s = psim_now() - t1, steps_s = 0, checked = k;
+        }
+        if (write_step(o, s, k, steps, rs, err))
             rc = -1;
         else
             progress_update(&pb, k);
     }
-    if (rc == 0 && !each && psim_state_finite(s, err))
-        rc = -1;
     progress_done(&pb); /* also on failure: the error line starts clean */
     return rc;
 }
@@ -461,8 +502,10 @@ int cli_run(int argc, char **argv)
 {
     run_opts o;
     int rc = parse_run(argc, argv, &o);
-    if (rc)
-        return rc;
+    if (rc) {
+        free(o.options);
+        return rc < 0 ? 0 : rc;   /* -1: --help or --version, done */
+    }
     psim_error err = {{0}, 0};
     psim_scene sc = {0};
     run_state rs = {0};
@@ -514,11 +557,12 @@ int cli_run(int argc, char **argv)
     double loop_s = psim_now() - t0;
     double secs = loop_s - psim_get_stats(s)->phase_s[PSIM_PHASE_OUTPUT];
     if (rs.out.f && rs.style.final && write_out(s, rs.out.f, steps, 1, o.digits)) {
-        fprintf(stderr, "psim: %s: write failed\n", rs.out.name);
+        fprintf(stderr, "psim: %s: write failed: %s\n", rs.out.name, strerror(errno ? errno : EIO));
         goto done;
     }
     if (rs.final.f && write_trace(s, rs.final.f, steps, o.digits)) {
-        fprintf(stderr, "psim: %s: write failed\n", rs.final.name);
+        fprintf(stderr, "psim: %s: write failed: %s\n", rs.final.name,
+                strerror(errno ? errno : EIO));
         goto done;
     }
     if ((o.report || o.stats) && !o.pin.topo)
@@ -548,7 +592,7 @@ int cli_run(int argc, char **argv)
         cli_report(info, s, &o.pin);
     rc = 0;
     if (fflush(stdout) != 0 || ferror(stdout)) {
-        fprintf(stderr, "psim: <stdout>: write failed: %s\n", strerror(errno));
+        fprintf(stderr, "psim: <stdout>: write failed: %s\n", strerror(errno ? errno : EIO));
         rc = 1;
     }
 done:

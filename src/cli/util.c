@@ -43,6 +43,22 @@ int cli_double(const char *opt, const char *text, double lo, double hi,
     return 0;
 }
 
+int cli_env_threads(void)
+{
+    const char *v = getenv("OMP_NUM_THREADS");
+    if (!v)
+        return 0;
+    size_t len = strcspn(v, ",");
+    if (len > 20) {
+        fprintf(stderr, "psim: OMP_NUM_THREADS: expected an integer, got '%.40s'\n", v);
+        return -1;
+    }
+    char first[24];
+    long t;
+    snprintf(first, sizeof first, "%.*s", (int)len, v);
+    return cli_long("OMP_NUM_THREADS", first, 1, CLI_MAX_THREADS, &t);
+}
+
 /* Temporary files to remove if a signal ends the run. */
 #define MAX_TEMPS 8
 static char *volatile temps[MAX_TEMPS];
@@ -60,9 +76,15 @@ static void track_temp(char *path, int add)
 {
     static int handlers;
     if (!handlers) {
-        signal(SIGINT, on_signal);
-        signal(SIGTERM, on_signal);
-        signal(SIGHUP, on_signal);
+        /* every signal whose default action ends the process and that a
+         * run can meet: interrupts, a closed pipe, limits, timers */
+        static const int fatal[] = {SIGINT,  SIGTERM, SIGHUP,    SIGQUIT, SIGPIPE, SIGALRM,
+                                    SIGXCPU, SIGXFSZ, SIGVTALRM, SIGPROF, SIGUSR1, SIGUSR2};
+        for (size_t k = 0; k < sizeof fatal / sizeof fatal[0]; k++) {
+            void (*was)(int) = signal(fatal[k], on_signal);
+            if (was == SIG_IGN)   /* ignored by the parent (nohup): keep it so */
+                signal(fatal[k], SIG_IGN);
+        }
         handlers = 1;
     }
     for (int k = 0; k < MAX_TEMPS; k++)

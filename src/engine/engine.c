@@ -308,6 +308,9 @@ int psim_step(psim_sim *e, psim_error *err)
     if (e->cfg.check && e->model->check) {
         int rc;
         double t0 = psim_now();
+        /* an overflowed state is named as such, not as a broken rule */
+        if (psim_state_finite(e, err))
+            return -1;
         take_snapshot(e, &e->after);
         rc = e->model->check(e, e->mstate, &e->before, &e->after, err);
         double dt = psim_now() - t0;

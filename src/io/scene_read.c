@@ -18,7 +18,19 @@ typedef struct reader {
     char *buf;
     size_t cap;
     int pushed;     /* the line in buf is to be read again */
+    int failed;     /* next_line found what no scene has (err is set) */
+    psim_error *err;
+    char *chunk;    /* the file, read a chunk at a time */
+    size_t pos, end;
+    int eof;
 } reader;
+
+#define CHUNK (1u << 20)
+
+/* The longest line a scene may have: five numbers of 17 digits with their
+ * signs and exponents fit many times over.  A longer "line" is binary data
+ * (a file of zero bytes has no newline at all). */
+#define MAX_LINE 4096
 
 static int blank(const char *s)
 {
@@ -27,7 +39,68 @@ static int blank(const char *s)
     return *s == '\0';
 }
 
-/* Next line that is not blank; NULL at end of file. */
+/* Bytes from rd->pos to the chunk's end, more read after them; 0 at end
+ * of file or on a read error. */
+static size_t refill(reader *rd)
+{
+    if (rd->eof)
+        return rd->end - rd->pos;
+    memmove(rd->chunk, rd->chunk + rd->pos, rd->end - rd->pos);
+    rd->end -= rd->pos;
+    rd->pos = 0;
+    size_t got = fread(rd->chunk + rd->end, 1, CHUNK - rd->end, rd->f);
+    rd->end += got;
+    if (got == 0)
+        rd->eof = 1;
+    return rd->end;
+}
+
+/* One line into rd->buf (without its newline); its length, or -1 at end
+ * of file, or -2 after an error (NUL byte, line too long). */
+static long read_line(reader *rd)
+{
+    if (!rd->buf) {
+        rd->cap = MAX_LINE + 1;
+        rd->buf = malloc(rd->cap);
+        rd->chunk = malloc(CHUNK);
+        if (!rd->buf || !rd->chunk) {
+            psim_error_set(rd->err, "%s: out of memory", rd->name);
+            return -2;
+        }
+    }
+    const char *nl;
+    size_t avail = rd->end - rd->pos;
+    while (!(nl = memchr(rd->chunk + rd->pos, '\n', avail)) && avail <= MAX_LINE && !rd->eof)
+        avail = refill(rd);
+    size_t len = nl ? (size_t)(nl - (rd->chunk + rd->pos)) : avail;
+    if (!nl && len == 0)
+        return -1;
+    const char *zero = memchr(rd->chunk + rd->pos, '\0', len < MAX_LINE ? len : MAX_LINE);
+    if (zero) {
+        psim_error_set(rd->err, "%s:%ld: a NUL byte at column %ld: binary data, not a "
+                       "scene (scenes are text)", rd->name, rd->line + 1,
+                       (long)(zero - (rd->chunk + rd->pos)) + 1);
+        return -2;
+    }
+    if (len > MAX_LINE) {
+        psim_error_set(rd->err, "%s:%ld: line longer than %d bytes: binary data, not a "
+                       "scene?", rd->name, rd->line + 1, MAX_LINE);
+        return -2;
+    }
+    memcpy(rd->buf, rd->chunk + rd->pos, len);
+    rd->buf[len] = '\0';
+    rd->pos += len + (nl != NULL);
+    rd->line++;
+    /* a UTF-8 byte-order mark (editors on Windows write one) is not text */
+    if (rd->line == 1 && len >= 3 && memcmp(rd->buf, "\xEF\xBB\xBF", 3) == 0) {
+        memmove(rd->buf, rd->buf + 3, len - 2);
+        len -= 3;
+    }
+    return (long)len;
+}
+
+/* Next line that is not blank; NULL at end of file or after an error
+ * (rd->failed). */
 static char *next_line(reader *rd)
 {
     if (rd->pushed) {
@@ -35,10 +108,11 @@ static char *next_line(reader *rd)
         return rd->buf;
     }
     for (;;) {
-        ssize_t got = getline(&rd->buf, &rd->cap, rd->f);
+        long got = read_line(rd);
+        if (got == -2)
+            rd->failed = 1;
         if (got < 0)
             return NULL;
-        rd->line++;
         if (!blank(rd->buf))
             return rd->buf;
     }
@@ -80,6 +154,8 @@ static int header_value(reader *rd, const char *what, int integer, double *v,
                         psim_error *err)
 {
     const char *s = next_line(rd);
+    if (!s && rd->failed)
+        return -1;
     if (!s && ferror(rd->f)) {
         psim_error_set(err, "%s: read error: %s", rd->name, strerror(errno));
         return -1;
@@ -139,9 +215,9 @@ static int read_header(reader *rd, psim_scene *sc, psim_error *err)
     }
     if (header_value(rd, "the step count S", 1, &S, err))
         return -1;
-    if (S < 0) {
-        psim_error_set(err, "%s:%ld: step count S must not be negative, got %.0f",
-                       rd->name, rd->line, S);
+    if (S < 0 || S > PSIM_MAX_STEPS) {
+        psim_error_set(err, "%s:%ld: step count S must be between 0 and %ld (as --steps), "
+                       "got %.0f", rd->name, rd->line, PSIM_MAX_STEPS, S);
         return -1;
     }
     if (psim_scene_alloc(sc, (long)n, err))
@@ -156,6 +232,8 @@ static int read_particle(reader *rd, psim_scene *sc, unsigned char *seen,
                          long k, psim_error *err)
 {
     const char *s = next_line(rd);
+    if (!s && rd->failed)
+        return -1;
     if (!s) {
         psim_error_set(err, "%s:%ld: unexpected end of file: expected %ld particle "
                        "lines, found %ld", rd->name, rd->line + 1, sc->n, k);
@@ -212,7 +290,7 @@ static int read_mode(reader *rd, psim_scene *sc)
 {
     char *s = next_line(rd);
     if (!s)
-        return 0;
+        return rd->failed ? -1 : 0;
     char word[8];
     int len = 0;
     if (sscanf(s, " %7s %n", word, &len) == 1 && s[len] == '\0' &&
@@ -228,7 +306,7 @@ static int read_mode(reader *rd, psim_scene *sc)
 int psim_scene_read_stream(FILE *f, const char *name, psim_scene *sc,
                            psim_error *err)
 {
-    reader rd = {f, name, 0, NULL, 0, 0};
+    reader rd = {.f = f, .name = name, .err = err};
     unsigned char *seen = NULL;
     memset(sc, 0, sizeof *sc);
     int rc = -1;
@@ -243,6 +321,8 @@ int psim_scene_read_stream(FILE *f, const char *name, psim_scene *sc,
     }
     if (sc->format == PSIM_SCENE_2019) {
         if (!next_line(&rd)) {
+            if (rd.failed)
+                goto done;
             /* no particle lines: the course's generator, rand() seeded 3210 */
             if (ferror(f) || psim_scene_generate_2019(sc, 3210, err))
                 goto gen_failed;
@@ -260,6 +340,8 @@ int psim_scene_read_stream(FILE *f, const char *name, psim_scene *sc,
                        rd.line, sc->n);
         goto done;
     }
+    if (rd.failed)
+        goto done;
     if (ferror(f)) {
         psim_error_set(err, "%s: read error: %s", name, strerror(errno));
         goto done;
@@ -276,6 +358,7 @@ gen_failed:
 done:
     free(seen);
     free(rd.buf);
+    free(rd.chunk);
     if (rc)
         psim_scene_free(sc);
     return rc;

@@ -64,6 +64,23 @@ bad_scene only_blank      3 "end of file"     "\n  \n"
 bad_scene header_only     5 "end of file"     "2\n10\n1\n5\n"
 # Blank lines are skipped but still counted.
 bad_scene blank_lines     8 "not a finite"    "2\n\n10\n1\n5\n0 1 1 0 0\n\n1 5 5 nan 0\n"
+# Binary data is named as such, on the line where it starts, at once (a
+# file of zero bytes has no newline: it must not be read whole first).
+bad_scene nul_byte        5 "NUL byte at column 10" "2\n10\n1\n5\n0 1 1 0 0\0junk\n1 5 5 0 0\n"
+bad_scene nul_header      1 "binary data"     "\0\0\0\0"
+bad_scene long_line       6 "longer than"     "2\n10\n1\n5\n0 1 1 0 0\n1 5 5 0 0$(printf '%*s' 5000 '')\n"
+bad_scene huge_S          4 "between 0 and 1000000000" "2\n10\n1\n99999999999\n$ok2"
+head -c 50000000 /dev/zero >"$tmp/zeros.in"
+expect_fail --rc 1 "$tmp/zeros.in:1: a NUL byte" "$PSIM" --out "$out" "$tmp/zeros.in"
+no_output_left zeros
+# A UTF-8 byte-order mark (Windows editors) is accepted: the same run as
+# without it; one in the middle of a file is not a number.
+printf '2\n10\n1\n5\n0 1 1 0 0\n1 5 5 0 0\n' >"$tmp/nobom.in"
+printf '\xEF\xBB\xBF2\n10\n1\n5\n0 1 1 0 0\n1 5 5 0 0\n' >"$tmp/bom.in"
+run_ok "$PSIM" -q --trace "$tmp/nobom.trace" "$tmp/nobom.in"
+run_ok "$PSIM" -q --trace "$tmp/bom.trace" "$tmp/bom.in"
+same_file "$tmp/nobom.trace" "$tmp/bom.trace" "a scene with a byte-order mark"
+bad_scene bom_inside      2 "box side L"      "2\n\xEF\xBB\xBF10\n1\n5\n$ok2"
 
 # The same from standard input: named <stdin>.
 printf '2\n10\n1\n5\n0 1 1 0 0\n1 5 x 0 0\n' >"$tmp/stdin.in"

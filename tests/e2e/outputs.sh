@@ -31,8 +31,12 @@ expect_fail --rc 1 "write failed" sh -c '"$0" gen --n 2000 >/dev/full' "$PSIM"
 
 # an interrupted run removes its temporary files
 gen "$tmp/long.in" --n 20000 --density 0.9 --r 1 --steps 100000 --vmin 0.5 --vmax 2 --seed 3
+# (job control on: a script's background job would otherwise start with
+# SIGINT ignored, and psim keeps a signal that it starts with ignored)
+set -m
 "$PSIM" --quiet --out "$tmp/int.txt" --trace "$tmp/int.trace" "$tmp/long.in" &
 pid=$!
+set +m
 for _ in $(seq 100); do
     ls "$tmp" | grep -q 'int.trace.tmp' && break
     sleep 0.05

@@ -48,7 +48,7 @@ static void test_read_errors(void)
     expect_error("1\n0\n1\n5\n", "t.in:2:", "L must be positive");
     expect_error("1\n10\n-1\n5\n", "t.in:3:", "r must be positive");
     expect_error("1\n10\n5\n1\n", "t.in:3:", "does not fit");
-    expect_error("1\n10\n1\n-5\n", "t.in:4:", "must not be negative");
+    expect_error("1\n10\n1\n-5\n", "t.in:4:", "must be between 0 and 1000000000");
     expect_error("1\n10\n1\n2.5\n", "t.in:4:", "integer");
     expect_error("2\n10\n1\n5\n0 1 1 0 0\n", "t.in:6:", "expected 2 particle lines, found 1");
     expect_error("1\n10\n1\n5\n0 1 1 0 0\n1 2 2 0 0\n", "t.in:6:", "more particle lines");

@@ -1,0 +1,112 @@
+#!/usr/bin/env bash
+# A hostile environment (issue 11): OMP_NUM_THREADS out of range, standard
+# output on a full device, contradictory flags, signals that end a run, a
+# state that overflows under --check.  Each gets one clear line and the
+# documented exit status, and no output file or temporary file is left.
+set -euo pipefail
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+source "$(dirname "$0")/lib.sh" "$@"
+
+gen "$tmp/s.in" --n 200 --L 200 --r 1 --steps 5 --seed 3
+
+no_temps()
+{
+    local left
+    left=$(cd "$tmp" && ls -- *.tmp* 2>/dev/null || true)
+    [[ -z $left ]] || fail "$1: temporary files left: $left"
+}
+
+# --- OMP_NUM_THREADS gets the limit and the error of --threads ---------------
+# (99999 crashed in the OpenMP runtime, 32768 printed the runtime's error)
+for v in 99999 32768 4097; do
+    expect_fail --rc 2 "OMP_NUM_THREADS: $v is out of range 1..4096" \
+        env OMP_NUM_THREADS="$v" "$PSIM" -q "$tmp/s.in"
+done
+# values the runtime itself finds invalid: it warns before psim starts (a
+# line psim cannot hold back), then psim's own line and exit 2
+for v in 0 -3 abc 2x ""; do
+    rc=0
+    env OMP_NUM_THREADS="$v" "$PSIM" -q --out "$tmp/e.out" "$tmp/s.in" 2>"$tmp/e.err" || rc=$?
+    ((rc == 2)) || fail "OMP_NUM_THREADS='$v': exit $rc, expected 2"
+    tail -n 1 "$tmp/e.err" | grep -q "^psim: OMP_NUM_THREADS: " ||
+        fail "OMP_NUM_THREADS='$v': no error line from psim: $(cat "$tmp/e.err")"
+    [[ ! -e $tmp/e.out ]] || fail "OMP_NUM_THREADS='$v': an output appeared"
+done
+for v in 1 2 "3,1"; do
+    run_ok env OMP_NUM_THREADS="$v" "$PSIM" -q --trace "$tmp/t.$v" "$tmp/s.in"
+done
+same_file "$tmp/t.1" "$tmp/t.2" "OMP_NUM_THREADS 1 vs 2"
+same_file "$tmp/t.1" "$tmp/t.3,1" "OMP_NUM_THREADS 1 vs 3,1"
+
+# --- standard output that cannot be written: exit 1 with the reason ----------
+if [[ -w /dev/full ]]; then
+    for cmd in "--help" "--version" "models" "plan" "gen --n 10" "gen --help" \
+        "--dry-run $tmp/s.in" "$tmp/s.in" "--out - $tmp/s.in" "--trace - -q $tmp/s.in"; do
+        read -ra a <<<"$cmd"
+        rc=0
+        "$PSIM" "${a[@]}" >/dev/full 2>"$tmp/full.err" || rc=$?
+        ((rc == 1)) || fail "psim $cmd >/dev/full: exit $rc, expected 1"
+        (($(wc -l <"$tmp/full.err") == 1)) || fail "psim $cmd >/dev/full: $(cat "$tmp/full.err")"
+        grep -q "write failed: No space left on device" "$tmp/full.err" ||
+            fail "psim $cmd >/dev/full: no reason given: $(cat "$tmp/full.err")"
+    done
+    # a trace on the full device: the reason, and the run's other output not left
+    expect_fail --rc 1 "write failed: No space left on device" \
+        "$PSIM" -q --out "$tmp/o.txt" --trace /dev/full "$tmp/s.in"
+    [[ ! -e $tmp/o.txt ]] || fail "--out written although --trace failed"
+    no_temps "trace to /dev/full"
+else
+    echo "note: no writable /dev/full here: the full-device checks are skipped"
+fi
+
+# --- contradictory flags -------------------------------------------------------
+expect_fail --rc 2 "-q" "$PSIM" -q --report "$tmp/s.in"
+
+# --- a state that overflows: named as such under --check too -------------------
+printf '1\n100\n1\n3\n0 1e308 50 1.7e308 0\n' >"$tmp/ov.in"
+for chk in "" --check; do
+    expect_fail --rc 1 "step 1: disk 0 is no longer finite" \
+        "$PSIM" -q $chk --out "$tmp/ov.out" "$tmp/ov.in"
+    [[ ! -e $tmp/ov.out ]] || fail "an overflowed run left its output ($chk)"
+done
+
+# --- signals that end a run remove its temporary files -------------------------
+# A run long enough to be inside its steps when the signal comes.
+gen "$tmp/big.in" --n 60000 --L 700 --r 1 --steps 100000 --seed 4
+# (job control on: a script's background job would otherwise start with
+# SIGINT and SIGQUIT ignored, and psim keeps what it starts with ignored)
+for sig in INT QUIT TERM HUP ALRM XCPU USR1 PIPE; do
+    set -m
+    "$PSIM" -q --threads 1 --out "$tmp/sig.out" --stats "$tmp/sig.json" "$tmp/big.in" &
+    pid=$!
+    set +m
+    for _ in $(seq 100); do
+        [[ -n $(cd "$tmp" && ls -- sig.out.tmp* 2>/dev/null) ]] && break
+        sleep 0.05
+    done
+    sleep 0.2
+    kill -s "$sig" "$pid"
+    rc=0
+    wait "$pid" || rc=$?
+    ((rc > 128)) || fail "SIG$sig: psim was not ended by the signal (exit $rc)"
+    [[ ! -e $tmp/sig.out && ! -e $tmp/sig.json ]] || fail "SIG$sig: an output appeared"
+    no_temps "SIG$sig"
+done
+# a signal ignored when psim starts (nohup) stays ignored: the run goes on
+gen "$tmp/short.in" --n 20000 --L 300 --r 1 --steps 300 --seed 4
+(
+    trap '' HUP
+    exec "$PSIM" -q --threads 1 --out "$tmp/nohup.out" "$tmp/short.in"
+) &
+pid=$!
+sleep 0.3
+kill -s HUP "$pid" 2>/dev/null || true
+wait "$pid" || fail "a run that started with SIGHUP ignored was ended by it"
+[[ -s $tmp/nohup.out ]] || fail "a run that started with SIGHUP ignored wrote no output"
+# a reader that goes away (psim --trace - | head -1): SIGPIPE, no temporaries
+rc=0
+"$PSIM" -q --out "$tmp/pipe.out" --trace - "$tmp/big.in" | head -n 1 >/dev/null || rc=$?
+no_temps "a closed pipe"
+[[ ! -e $tmp/pipe.out ]] || fail "a closed pipe: --out appeared"
+echo "hostile: ok"
