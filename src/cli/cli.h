@@ -17,6 +17,17 @@ int cli_models(int argc, char **argv); /* psim models */
  * and -1 if not. */
 int cli_env_threads(void);
 
+/* The OpenMP wait policy: left to the runtime (threads spin a while
+ * before they sleep) when the machine has a core for each of `threads`
+ * besides the threads runnable now; otherwise psim starts again, once,
+ * with OMP_WAIT_POLICY=passive (docs/design.md).  The user's
+ * OMP_WAIT_POLICY or GOMP_SPINCOUNT is never overridden.  cli_set_argv
+ * gives it the command line to start again with; cli_wait_note says why
+ * passive was chosen (NULL if it was not). */
+void cli_set_argv(char **argv);
+void cli_choose_wait_policy(int threads);
+const char *cli_wait_note(void);
+
 /* Strict number parsing for option values: print one error line and
  * return -1 when text is not a number in [lo, hi]. */
 int cli_long(const char *opt, const char *text, long lo, long hi, long *out);

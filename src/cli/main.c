@@ -25,6 +25,7 @@ int main(int argc, char **argv)
 {
     if (cli_env_threads())
         return 2;
+    cli_set_argv(argv);
     int rc = command(argc, argv);
     if ((fflush(stdout) != 0 || ferror(stdout)) && rc == 0) {
         fprintf(stderr, "psim: <stdout>: write failed: %s\n", strerror(errno ? errno : EIO));

@@ -376,6 +376,8 @@ static void print_summary(FILE *f, const run_opts *o, const psim_scene *sc,
     fputc('\n', f);
     psim_print_step_summary(f, s);
     psim_print_skips(f, s);
+    if (cli_wait_note())
+        fprintf(f, "  OpenMP wait policy %s\n", cli_wait_note());
     if (st->grid_cells > 0)
         fprintf(f, "  grid %d x %d cells of side %g, tiles of %d x %d cells (%d tiles)\n",
                 st->grid_cells, st->grid_cells, st->cell_side, st->tile_cells,
@@ -512,6 +514,8 @@ int cli_run(int argc, char **argv)
     psim_sim *s = NULL;
     rc = 1;
     omp_set_dynamic(0);
+    if (!o.pin.dry_run)
+        cli_choose_wait_policy(o.threads ? (int)o.threads : omp_get_max_threads());
     if (o.pin.dry_run) {
         if (cli_pin_setup(&o.pin, (int)o.threads, o.quiet) == 0) {
             psim_pin_plan_print(stdout, o.pin.topo, &o.pin.plan);

@@ -1,4 +1,5 @@
 #include <errno.h>
+#include <sched.h>
 #include <signal.h>
 #include <math.h>
 #include <stdlib.h>
@@ -57,6 +58,51 @@ int cli_env_threads(void)
     long t;
     snprintf(first, sizeof first, "%.*s", (int)len, v);
     return cli_long("OMP_NUM_THREADS", first, 1, CLI_MAX_THREADS, &t);
+}
+
+static char **main_argv;
+
+void cli_set_argv(char **argv) { main_argv = argv; }
+
+/* Threads that were runnable on the machine a moment ago, psim's own
+ * included (/proc/stat's procs_running); -1 if unknown. */
+static long runnable_now(void)
+{
+    FILE *f = fopen("/proc/stat", "r");
+    if (!f)
+        return -1;
+    char line[256];
+    long n = -1;
+    while (fgets(line, sizeof line, f))
+        if (sscanf(line, "procs_running %ld", &n) == 1)
+            break;
+    fclose(f);
+    return n;
+}
+
+const char *cli_wait_note(void) { return getenv("PSIM_WAIT_NOTE"); }
+
+void cli_choose_wait_policy(int threads)
+{
+    if (threads <= 1 || !main_argv || getenv("OMP_WAIT_POLICY") || getenv("GOMP_SPINCOUNT"))
+        return;
+    cpu_set_t cpus;
+    long others = runnable_now() - 1;
+    int cores = sched_getaffinity(0, sizeof cpus, &cpus) == 0 ? CPU_COUNT(&cpus) : 0;
+    if (others < 0 || cores <= 0 || others + threads <= cores)
+        return;   /* room for every thread: waiting threads may spin */
+    /* Shared: a spinning thread would take the core that the thread it
+     * waits for needs.  The OpenMP runtime reads its wait policy when it
+     * is loaded, so psim starts again with it set (the scene is not read
+     * yet); if that fails, it runs on as it is. */
+    char note[160];
+    snprintf(note, sizeof note, "passive (machine shared: %ld other threads runnable, "
+             "%d threads asked, %d cores)", others, threads, cores);
+    if (setenv("OMP_WAIT_POLICY", "passive", 1) || setenv("PSIM_WAIT_NOTE", note, 1))
+        return;
+    execv("/proc/self/exe", main_argv);
+    unsetenv("OMP_WAIT_POLICY");
+    unsetenv("PSIM_WAIT_NOTE");
 }
 
 /* Temporary files to remove if a signal ends the run. */

@@ -39,6 +39,30 @@ done
 same_file "$tmp/t.1" "$tmp/t.2" "OMP_NUM_THREADS 1 vs 2"
 same_file "$tmp/t.1" "$tmp/t.3,1" "OMP_NUM_THREADS 1 vs 3,1"
 
+# --- the OpenMP wait policy on a shared machine -------------------------------
+# With every core busy, a 2-thread run starts again with passive waiting
+# and says so; the user's own OMP_WAIT_POLICY is kept; the bytes are the
+# same whatever the policy.
+cores=$(nproc)
+hogs=()
+for ((c = 0; c < cores; c++)); do
+    timeout 20 sh -c 'while :; do :; done' &
+    hogs+=($!)
+done
+sleep 0.2
+run_ok "$PSIM" --threads 2 --trace "$tmp/w.busy" "$tmp/s.in" >"$tmp/w.busy.txt"
+run_ok env OMP_WAIT_POLICY=active "$PSIM" --threads 2 --trace "$tmp/w.user" "$tmp/s.in" >"$tmp/w.user.txt"
+kill "${hogs[@]}" 2>/dev/null || true
+wait "${hogs[@]}" 2>/dev/null || true
+grep -q "OpenMP wait policy passive (machine shared" "$tmp/w.busy.txt" ||
+    fail "a busy machine: no passive wait policy in the summary: $(cat "$tmp/w.busy.txt")"
+if grep -q "OpenMP wait policy" "$tmp/w.user.txt"; then
+    fail "the user's OMP_WAIT_POLICY was overridden"
+fi
+run_ok env OMP_WAIT_POLICY=passive "$PSIM" -q --threads 2 --trace "$tmp/w.passive" "$tmp/s.in"
+same_file "$tmp/w.busy" "$tmp/w.user" "passive vs active waiting"
+same_file "$tmp/w.busy" "$tmp/w.passive" "chosen vs the user's passive waiting"
+
 # --- standard output that cannot be written: exit 1 with the reason ----------
 if [[ -w /dev/full ]]; then
     for cmd in "--help" "--version" "models" "plan" "gen --n 10" "gen --help" \
