@@ -8,8 +8,10 @@
  * A tile is listed row by row of cells from "slot rows": each cell's first
  * SLOTS particles copied into fixed slots (empty ones far away), so that a
  * particle is tested against its forward half (20 slots) in a fixed,
- * unrolled loop of SSE2 pairs without a branch; the few particles beyond
- * SLOTS in a cell are listed one by one. */
+ * unrolled loop of SSE2 pairs without a branch (on a CPU with AVX-512:
+ * three vectors of eight, the hits filed by shell with compress stores;
+ * the same lists in another order); the few particles beyond SLOTS in a
+ * cell are listed one by one. */
 #include <stdlib.h>
 #include <string.h>
 #ifdef __SSE2__
