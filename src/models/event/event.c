@@ -33,8 +33,8 @@ static int plan_cells(emodel *m)
 
 static int cell_of(const emodel *m, double p)
 {
-    int c = (int)(p / m->h);
-    return c < 0 ? 0 : c >= m->G ? m->G - 1 : c;
+    double c = p / m->h;   /* clamped before the conversion: p may be far outside */
+    return !(c >= 0) ? 0 : c >= m->G ? m->G - 1 : (int)c;
 }
 
 /* The first overlapping pair (lowest i, then lowest j), or -1. */

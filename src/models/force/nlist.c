@@ -101,7 +101,11 @@ _Static_assert(SLOTS == 4 && 2 * SLOTS == 8, "a cell is half a vector of eight s
 _Static_assert(sizeof(fpair) == 8 && offsetof(fpair, j) == 4, "a pair is one 64-bit lane");
 /* (no auto-vectorising: it would store the cursors and load them back as one
  * vector, a store-forwarding stall per cell) */
+#ifdef __clang__
+#define AVX512 __attribute__((target("avx512f,avx512vl,popcnt")))
+#else
 #define AVX512 __attribute__((target("avx512f,avx512vl,popcnt"), optimize("no-tree-vectorize")))
+#endif
 #endif
 
 static int reserve_rows(ftile *t)

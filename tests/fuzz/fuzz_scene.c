@@ -1,0 +1,29 @@
+/* Fuzz target: the scene reader (both formats), then, for a scene it
+ * accepts that is small enough, a few checked steps of every model.  A
+ * crash, a sanitizer report or a hang is a finding; an error is not. */
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "fuzz.h"
+#include "psim/psim.h"
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    if (size == 0)
+        return 0;
+    FILE *f = fmemopen((void *)data, size, "r");
+    if (!f)
+        return 0;
+    psim_scene sc;
+    psim_error err = {{0}, 0};
+    int rc = psim_scene_read_stream(f, "fuzz.in", &sc, &err);
+    fclose(f);
+    if (rc)
+        return 0;
+    if (sc.n <= FUZZ_MAX_DISKS)
+        for (int m = 0; m < psim_model_count(); m++)
+            fuzz_run(&sc, psim_model_name(m), NULL, FUZZ_STEPS);
+    psim_scene_free(&sc);
+    return 0;
+}
