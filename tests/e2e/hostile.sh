@@ -95,6 +95,30 @@ for chk in "" --check; do
     [[ ! -e $tmp/ov.out ]] || fail "an overflowed run left its output ($chk)"
 done
 
+# --- every model: the same output safety ----------------------------------------
+# A scene every model runs (no overlaps, inside the box); for each model:
+# aliases and the scene refused, a failed trace leaves no other output, an
+# interrupted run leaves no temporary file, and the outputs of a good run
+# appear whole.
+gen "$tmp/m.in" --n 400 --L 120 --r 1 --steps 4 --place nonoverlap --seed 5 --vmin -0.5 --vmax 0.5
+for model in $("$PSIM" models | awk '/^[a-z]/ { print $1 }'); do
+    expect_fail --rc 2 "named for two outputs" \
+        "$PSIM" -q --model "$model" --out "$tmp/a.$model" --final "$tmp/./a.$model" "$tmp/m.in"
+    expect_fail --rc 2 "is the scene" "$PSIM" -q --model "$model" --trace "$tmp/m.in" "$tmp/m.in"
+    if [[ -w /dev/full ]]; then
+        expect_fail --rc 1 "write failed: No space left on device" \
+            "$PSIM" -q --model "$model" --out "$tmp/b.$model" --trace /dev/full "$tmp/m.in"
+        [[ ! -e $tmp/b.$model ]] || fail "$model: --out written although --trace failed"
+    fi
+    run_ok "$PSIM" -q --model "$model" --out "$tmp/c.$model" --trace "$tmp/c.$model.trace" \
+        --final "$tmp/c.$model.final" --stats "$tmp/c.$model.json" "$tmp/m.in"
+    for f in "c.$model" "c.$model.trace" "c.$model.final" "c.$model.json"; do
+        [[ -s $tmp/$f ]] || fail "$model: $f is missing or empty"
+    done
+    (($(wc -l <"$tmp/c.$model.final") == 400)) || fail "$model: --final is not 400 lines"
+    no_temps "$model"
+done
+
 # --- signals that end a run remove its temporary files -------------------------
 # A run long enough to be inside its steps when the signal comes.
 gen "$tmp/big.in" --n 60000 --L 700 --r 1 --steps 100000 --seed 4
