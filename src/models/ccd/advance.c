@@ -33,7 +33,7 @@ static void apply(const ccand *c, psim_store *s, cmodel *m)
 void ccd_advance(psim_sim *e, cmodel *m)
 {
     psim_store *s = &e->st;
-    const size_t n = s->n, na = m->acc.n, nall = m->all.n;
+    const size_t n = s->n, na = m->acc.n;
 #pragma omp parallel num_threads(e->threads)
     {
         double t0 = psim_now();
@@ -51,12 +51,14 @@ void ccd_advance(psim_sim *e, cmodel *m)
                 s->y[i] += s->vy[i];
             }
 #pragma omp barrier
-        /* busy flags back to 0 for the next step */
+        /* busy flags back to 0 for the next step: only accepted
+         * collisions set them, and each disk is in at most one (clearing
+         * by every candidate would have two threads write one flag) */
 #pragma omp for schedule(static)
-        for (size_t k = 0; k < nall; k++) {
-            m->busy[m->all.c[k].sp] = 0;
-            if (m->all.c[k].q >= 0)
-                m->busy[m->all.c[k].sq] = 0;
+        for (size_t k = 0; k < na; k++) {
+            m->busy[m->acc.c[k].sp] = 0;
+            if (m->acc.c[k].q >= 0)
+                m->busy[m->acc.c[k].sq] = 0;
         }
         psim_tstat_add(e->tstats, PSIM_PHASE_MOVE, psim_now() - t0, 1, hi - lo);
         if (e->tstats)

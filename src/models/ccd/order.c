@@ -159,10 +159,10 @@ static uint64_t accept_par(psim_sim *e, cmodel *m)
 #pragma omp parallel num_threads(e->threads)
         {
 #pragma omp for schedule(static)
-            for (size_t k = 0; k < n; k++) {
-                m->best[c[k].sp] = UINT32_MAX;
+            for (size_t k = 0; k < n; k++) {   /* a disk may be in several: atomic */
+                __atomic_store_n(&m->best[c[k].sp], UINT32_MAX, __ATOMIC_RELAXED);
                 if (c[k].q >= 0)
-                    m->best[c[k].sq] = UINT32_MAX;
+                    __atomic_store_n(&m->best[c[k].sq], UINT32_MAX, __ATOMIC_RELAXED);
             }
 #pragma omp for schedule(static)
             for (size_t k = 0; k < n; k++)
