@@ -2,7 +2,7 @@
 # Install psim's build and test dependencies on Debian 12 (as root or with sudo).
 set -euo pipefail
 pkgs=(build-essential g++ cmake ninja-build pkg-config libjemalloc-dev libhwloc-dev
-      hwloc python3 python3-matplotlib python3-pil)
+      hwloc python3 python3-matplotlib python3-pil valgrind)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")

@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# Every model under valgrind's memcheck, at 2 threads with tiles of one
+# cell (many tasks): no invalid access, no use of uninitialised memory, no
+# leak (definite or possible) beyond the OpenMP runtime's own pools
+# (valgrind.supp).  Registered only in builds without sanitizers (valgrind
+# cannot run a sanitized binary).
+set -euo pipefail
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+source "$(dirname "$0")/../e2e/lib.sh" "$@"
+SUPP=$(cd "$(dirname "$0")" && pwd)/valgrind.supp
+command -v valgrind >/dev/null || fail "valgrind is not installed (scripts/install-deps.sh installs it)"
+
+gen "$tmp/s.in" --n 300 --L 80 --r 1 --steps 4 --place nonoverlap --seed 3
+vg()
+{
+    local name=$1
+    shift
+    local rc=0
+    valgrind -q --leak-check=full --errors-for-leak-kinds=definite,possible \
+        --error-exitcode=99 --suppressions="$SUPP" "$PSIM" "$@" >"$tmp/$name.out" 2>"$tmp/$name.err" || rc=$?
+    ((rc == 0)) || fail "$name: exit $rc under memcheck: $(head -c 3000 "$tmp/$name.err")"
+}
+for m in $("$PSIM" models | awk '/^[a-z]/ { print $1 }'); do
+    vg "$m" -q --threads 2 --tile 1 --model "$m" --check --trace "$tmp/$m.trace" "$tmp/s.in"
+done
+vg force-n -q --threads 2 --model force -n 3000 -s 1 --steps 20 -o "$tmp/force-n.txt"
+vg gen gen --n 500 --density 0.5 -o "$tmp/g.in"
+# the error paths too: a bad scene, a refused option
+printf '2\n10\n1\n5\n0 1 1 0 0\n1 5 x 0 0\n' >"$tmp/bad.in"
+rc=0
+valgrind -q --leak-check=full --errors-for-leak-kinds=definite,possible --error-exitcode=99 \
+    --suppressions="$SUPP" "$PSIM" -q "$tmp/bad.in" 2>"$tmp/bad.err" || rc=$?
+((rc == 1)) || fail "a bad scene under memcheck: exit $rc, expected 1: $(cat "$tmp/bad.err")"
+echo "memcheck: ok"
