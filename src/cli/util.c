@@ -100,7 +100,9 @@ void cli_choose_wait_policy(int threads)
              "%d threads asked, %d cores)", others, threads, cores);
     if (setenv("OMP_WAIT_POLICY", "passive", 1) || setenv("PSIM_WAIT_NOTE", note, 1))
         return;
-    execv("/proc/self/exe", main_argv);
+    /* by argv[0], as the shell found it: /proc/self/exe would name the
+     * tool, not psim, under valgrind and such */
+    execvp(main_argv[0], main_argv);
     unsetenv("OMP_WAIT_POLICY");
     unsetenv("PSIM_WAIT_NOTE");
 }

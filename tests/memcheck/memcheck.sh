@@ -11,6 +11,9 @@ source "$(dirname "$0")/../e2e/lib.sh" "$@"
 SUPP=$(cd "$(dirname "$0")" && pwd)/valgrind.supp
 command -v valgrind >/dev/null || fail "valgrind is not installed (scripts/install-deps.sh installs it)"
 
+# the wait policy given, so that psim never starts itself again (out of
+# valgrind) on a busy machine (docs/design.md)
+export OMP_WAIT_POLICY=passive
 gen "$tmp/s.in" --n 300 --L 80 --r 1 --steps 4 --place nonoverlap --seed 3
 vg()
 {
