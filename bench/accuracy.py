@@ -82,24 +82,15 @@ def mean_distance(a, b):
     return sum(math.hypot(a[i][0] - b[i][0], a[i][1] - b[i][1]) for i in a) / len(a)
 
 
-def near_pairs(state, side):
-    """Each pair (i, j), i < j, of particles in the same or adjacent cells of
-    the given side, with their distance (every pair closer than side)."""
-    cells = {}
-    for i, (x, y, _, _) in state.items():
-        cells.setdefault((int(x // side), int(y // side)), []).append(i)
-    for (cx, cy), ids in cells.items():
-        for dx in (-1, 0, 1):
-            for dy in (-1, 0, 1):
-                for j in cells.get((cx + dx, cy + dy), []):
-                    for i in ids:
-                        if i < j:
-                            yield i, j, math.hypot(state[i][0] - state[j][0],
-                                                   state[i][1] - state[j][1])
+def near_distances(state, side):
+    """Each pair (i, j) closer than side, with its distance (and some
+    farther ones)."""
+    for i, j in harddisks.near_pairs(state, side):
+        yield i, j, math.hypot(state[i][0] - state[j][0], state[i][1] - state[j][1])
 
 
 def overlaps(state, r):
-    return sum(d < 2 * r * (1 - 1e-9) for _, _, d in near_pairs(state, 2 * r))
+    return sum(d < 2 * r * (1 - 1e-9) for _, _, d in near_distances(state, 2 * r))
 
 
 def kinetic(state, scale=1.0):
@@ -237,7 +228,7 @@ def plot(rows, path):
 def force_energy(state, cutoff, mass):
     """Kinetic plus pair potential energy of a force-model state."""
     pot = sum(cutoff / r - 1 + math.log(r / cutoff)
-              for _, _, r in near_pairs(state, cutoff) if 0 < r < cutoff)
+              for _, _, r in near_distances(state, cutoff) if 0 < r < cutoff)
     kin = sum(mass * (vx * vx + vy * vy) / 2 for _, _, vx, vy in state.values())
     return kin + pot
 

@@ -15,8 +15,7 @@ typedef struct reader {
     FILE *f;
     const char *name;
     long line;
-    char *buf;
-    size_t cap;
+    char *buf;      /* the current line: MAX_LINE + 1 bytes */
     int pushed;     /* the line in buf is to be read again */
     int failed;     /* next_line found what no scene has (err is set) */
     psim_error *err;
@@ -60,8 +59,7 @@ static size_t refill(reader *rd)
 static long read_line(reader *rd)
 {
     if (!rd->buf) {
-        rd->cap = MAX_LINE + 1;
-        rd->buf = malloc(rd->cap);
+        rd->buf = malloc(MAX_LINE + 1);
         rd->chunk = malloc(CHUNK);
         if (!rd->buf || !rd->chunk) {
             psim_error_set(rd->err, "%s: out of memory", rd->name);

@@ -8,6 +8,7 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 source "$(dirname "$0")/lib.sh" "$@"
 PY=$(command -v python3) || fail "python3 is needed"
+BENCH=$(cd "$(dirname "$0")/../../bench" && pwd)   # harddisks.py
 
 event()
 {
@@ -57,8 +58,10 @@ expect_state "$tmp/apart.out" "0 2 50 1 0" "1 22 50 1 0"   # 0 hit the wall at t
 # --- dense scenes: no overlaps, energy to round-off, inside the box ----------------
 check_trace()   # SCENE TRACE: every step of the trace
 {
-    "$PY" - "$1" "$2" <<'PYEOF' || fail "$2: overlaps, energy drift or a disk outside the box"
+    "$PY" - "$1" "$2" "$BENCH" <<'PYEOF' || fail "$2: overlaps, energy drift or a disk outside the box"
 import sys, math, collections
+sys.path.insert(0, sys.argv[3])
+import harddisks  # bench/harddisks.py: the near pairs of disks
 lines = open(sys.argv[1]).read().split('\n')
 n, L, r = int(lines[0]), float(lines[1]), float(lines[2])
 ke0 = sum(float(l.split()[3]) ** 2 + float(l.split()[4]) ** 2 for l in lines[4:4 + n])
@@ -72,18 +75,11 @@ for k, st in steps.items():
     assert len(st) == n
     ke = sum(vx * vx + vy * vy for _, _, vx, vy in st)
     assert abs(ke - ke0) <= 1e-12 * ke0, ("energy", k, ke, ke0)
-    cells = collections.defaultdict(list)
     for i, (x, y, _, _) in enumerate(st):
         assert r - tol <= x <= L - r + tol and r - tol <= y <= L - r + tol, ("box", k, i, x, y)
-        cells[(int(x // (2 * r)), int(y // (2 * r)))].append(i)
-    for (cx, cy), ids in cells.items():
-        for dx in (-1, 0, 1):
-            for dy in (-1, 0, 1):
-                for j in cells.get((cx + dx, cy + dy), []):
-                    for i in ids:
-                        if i < j:
-                            d = math.hypot(st[i][0] - st[j][0], st[i][1] - st[j][1])
-                            assert d >= 2 * r - tol, ("overlap", k, i, j, d)
+    for i, j in harddisks.near_pairs(st, 2 * r):
+        d = math.hypot(st[i][0] - st[j][0], st[i][1] - st[j][1])
+        assert d >= 2 * r - tol, ("overlap", k, i, j, d)
 PYEOF
 }
 gen "$tmp/dense.in" --n 900 --r 1 --density 0.7 --steps 40 --vmin -0.5 --vmax 0.5 --place lattice --seed 4

@@ -76,6 +76,9 @@ import shutil
 import subprocess
 import sys
 import tempfile
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "bench"))
+import harddisks  # noqa: E402  (bench/harddisks.py: the near pairs of disks)
 import time
 from dataclasses import dataclass, field
 
@@ -538,18 +541,10 @@ class Checker:
     def overlaps(self):
         """Event model: no two disks closer than 2r (1 - 1e-9)."""
         d2 = (2 * self.scene.r * (1 - 1e-9)) ** 2
-        side = 2 * self.scene.r
-        cells = {}
-        for i, (x, y, _, _) in enumerate(self.end):
-            cells.setdefault((math.floor(x / side), math.floor(y / side)), []).append(i)
-        for (cx, cy), ids in cells.items():
-            for dx in (-1, 0, 1):
-                for dy in (-1, 0, 1):
-                    for j in cells.get((cx + dx, cy + dy), ()):
-                        for i in ids:
-                            a, b = self.end[i], self.end[j]
-                            if i < j and (a[0] - b[0]) ** 2 + (a[1] - b[1]) ** 2 < d2:
-                                return self.fail("disks %d and %d overlap" % (i, j))
+        for i, j in harddisks.near_pairs(self.end, 2 * self.scene.r):
+            a, b = self.end[i], self.end[j]
+            if (a[0] - b[0]) ** 2 + (a[1] - b[1]) ** 2 < d2:
+                return self.fail("disks %d and %d overlap" % (i, j))
 
     def energy(self):
         drift = self.numbers["ke_drift"]
