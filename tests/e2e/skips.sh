@@ -133,14 +133,33 @@ p=$(left_out "$j" pairs)
 ((p > 50 && p < 300 && $(counter "$j" wall_collisions) > 0)) ||
     fail "ccd block into the walls: pairs left out in $p steps, walls $(counter "$j" wall_collisions)"
 [[ $(left_out "$tmp/comoving.ccd1.json" pairs) == 100 ]] || fail "ccd comoving: pairs should be left out in every step"
-[[ $(left_out "$tmp/approach.ccd1.json" pairs) == 0 ]] || fail "ccd approach: the pairs must be searched"
-[[ $(left_out "$tmp/approach.ccd1.json" task_graph) == 160 && $(left_out "$tmp/approach.ccd3.json" task_graph) == 0 ]] ||
-    fail "ccd: task_graph should be left out at 1 thread only"
+# free flight: the gap measured after a search that found no pair
+# candidate; the two disks of "approach" still meet once, then reach walls
+j=$tmp/approach.ccd1.json
+p=$(left_out "$j" pairs)
+((p > 30 && p < 160 && $(counter "$j" pair_collisions) == 1 && $(counter "$j" wall_collisions) >= 2)) ||
+    fail "ccd approach: pairs left out in $p steps (free flight until they meet), collisions $(counter "$j" pair_collisions) pair, $(counter "$j" wall_collisions) wall"
+same_without_skips ccd dilute nonfinite
+j=$tmp/dilute.ccd3.json
+[[ $(left_out "$j" pairs) == 199 && $(left_out "$j" walls) == 199 ]] ||
+    fail "ccd dilute: expected pairs and walls left out in 199 of 200 steps: $(grep -A5 left_out "$j")"
+[[ $(left_out "$tmp/nonfinite.ccd1.json" pairs) == 0 ]] || fail "ccd: velocities of 1e300 must not skip the pair search"
+[[ $(left_out "$tmp/bouncing.ccd1.json" walls) -lt $(left_out "$tmp/bouncing.ccd1.json" pairs) ]] ||
+    fail "ccd bouncing: walls are reached, so they must be searched in some free-flight steps"
+[[ $(left_out "$tmp/approach.ccd1.json" task_graph) == $((160 - $(left_out "$tmp/approach.ccd1.json" pairs))) &&
+   $(left_out "$tmp/approach.ccd3.json" task_graph) == 0 ]] ||
+    fail "ccd: task_graph should be left out in every searched step at 1 thread only"
 
 # force: at rest (nothing changes after two quiet steps), moving as one
 # (the lists never go stale: particles that do not close in), no walls,
 # one thread; the same bytes as without the skips
-same_without_skips force f_rest f_com bouncing
+same_without_skips force f_rest f_com bouncing dilute
+# a dilute lattice: the lists are kept past the skin (the nearest unlisted
+# pair is measured after a build with sparse lists)
+j=$tmp/dilute.force1.json
+(($(left_out "$j" rebuilds) > 100 && $(counter "$j" rebuilds) < $(counter "$tmp/dilute.force.ref.json" rebuilds))) ||
+    fail "force dilute: lists should be kept past the skin: $(grep -E 'rebuilds' "$j")"
+[[ $(left_out "$tmp/f_com.force.ref.json" rebuilds) == 0 ]] || fail "force: skip=0 kept lists past the skin"
 [[ $(left_out "$tmp/f_rest.force1.json" move) == 58 ]] ||
     fail "force at rest: expected the step left out in 58 of 60 steps: $(grep -A4 left_out "$tmp/f_rest.force1.json")"
 [[ $(counter "$tmp/f_com.force3.json" rebuilds) == 1 && $(counter "$tmp/f_com.force.ref.json" rebuilds) -gt 1 ]] ||

@@ -13,31 +13,42 @@
 
 /* The velocities this step: the largest displacement of one disk,
  * max |vx| + |vy| >= |v|, and whether they are all one (finite) velocity
- * (*same) and that velocity is zero (*zero). */
-static double velocities(const psim_sim *e, int *same, int *zero)
+ * (same) and that velocity is zero (zero); with `extent`, also the
+ * positions' extent (for the wall skip, flight.c). */
+typedef struct cvel {
+    double vmax;
+    int same, zero;
+    int has_ext;
+    double ext[4];          /* x min, x max, y min, y max */
+} cvel;
+
+static cvel velocities(const psim_sim *e, int extent)
 {
     const psim_store *s = &e->st;
     double v = 0, u0 = INFINITY, u1 = -INFINITY, w0 = INFINITY, w1 = -INFINITY;
+    double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+    const long n = (long)s->n;
+    if (extent) {
+#pragma omp parallel for schedule(static) num_threads(e->threads) \
+    reduction(max : x1, y1) reduction(min : x0, y0)
+        for (long i = 0; i < n; i++) {
+            x0 = s->x[i] < x0 ? s->x[i] : x0, x1 = s->x[i] > x1 ? s->x[i] : x1;
+            y0 = s->y[i] < y0 ? s->y[i] : y0, y1 = s->y[i] > y1 ? s->y[i] : y1;
+        }
+    }
 #pragma omp parallel for schedule(static) num_threads(e->threads) \
     reduction(max : v, u1, w1) reduction(min : u0, w0)
-    for (size_t i = 0; i < s->n; i++) {
+    for (long i = 0; i < n; i++) {
         double d = fabs(s->vx[i]) + fabs(s->vy[i]);
         v = d > v ? d : v;
         u0 = s->vx[i] < u0 ? s->vx[i] : u0, u1 = s->vx[i] > u1 ? s->vx[i] : u1;
         w0 = s->vy[i] < w0 ? s->vy[i] : w0, w1 = s->vy[i] > w1 ? s->vy[i] : w1;
     }
+    cvel r = {.vmax = v, .has_ext = extent, .ext = {x0, x1, y0, y1}};
     /* NaN is in no comparison: it leaves u0 > u1 or a v that is not finite */
-    *same = s->n > 0 && u0 == u1 && w0 == w1 && isfinite(u0) && isfinite(w0) && isfinite(v);
-    *zero = *same && u0 == 0 && w0 == 0;
-    return v;
-}
-
-/* Slack on the swept boxes and the cells against round-off: the rules'
- * arithmetic can make a candidate of a pair whose exact closest approach
- * is a little over 2r (by about sqrt(eps) of the distances involved). */
-static double margin_for(const cmodel *m, double vmax)
-{
-    return 1e-6 * (m->L + 2 * vmax + m->r);
+    r.same = s->n > 0 && u0 == u1 && w0 == w1 && isfinite(u0) && isfinite(w0) && isfinite(v);
+    r.zero = r.same && u0 == 0 && w0 == 0;
+    return r;
 }
 
 /* Cells must be wider than 2r plus the largest displacement of two disks;
@@ -45,7 +56,7 @@ static double margin_for(const cmodel *m, double vmax)
 static int fit_grid(psim_sim *e, cmodel *m, double vmax, int *regridded)
 {
     m->vmax = vmax;
-    m->margin = margin_for(m, vmax);
+    m->margin = ccd_margin(m, vmax);
     double reach = 2 * m->r + 2 * vmax + 2 * m->margin;
     *regridded = 0;
     if (e->has_grid && reach <= e->grid.h &&
@@ -131,10 +142,11 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
     m->off = calloc((size_t)m->nlists, sizeof *m->off);
     m->head = calloc((size_t)m->nlists, sizeof *m->head);
     m->skip = psim_engine_option(e, "skip", 1) != 0;
-    int regridded, same, zero;
+    m->gap = -1;
+    int regridded;
     if (!m->sx0 || !m->sx1 || !m->sy0 || !m->sy1 || !m->ord || !m->key || !m->key2 ||
         !m->ord2 || !m->busy || !m->best || !m->pcoll || !m->wcoll || !m->lists || !m->off || !m->head ||
-        fit_grid(e, m, velocities(e, &same, &zero), &regridded))
+        fit_grid(e, m, velocities(e, 0).vmax, &regridded))
         goto oom;
     return m;
 oom:
@@ -143,22 +155,33 @@ oom:
     return NULL;
 }
 
+/* Clear the candidate lists: a step with neither pairs nor walls. */
+static void detect_none(cmodel *m)
+{
+    for (int t = 0; t < m->nlists; t++)
+        m->lists[t].n = 0;
+}
+
 /* A step.  Where the scene cannot use a stage it is left out (the same
  * bytes as without: tests/e2e/skips.sh):
  *   move   every velocity is 0: no candidate, and after one such step
  *          (which may turn a -0 position into +0) x + 0 = x for every
  *          disk, so nothing at all happens;
- *   pairs  every disk has the same velocity: no pair approaches (|dv|^2 =
- *          0 gives no candidate), so the sort and the pair search are left
+ *   pairs  every disk has the same velocity (no pair approaches: |dv|^2 =
+ *          0 gives no candidate), or free flight (no pair can close the
+ *          gap this step, flight.c): the sort and the pair search are left
  *          out and only walls are found (in any order of the store: the
- *          candidates' order is the rules' total order). */
+ *          candidates' order is the rules' total order);
+ *   walls  with the pairs left out, no disk can reach a wall this step. */
 static int interact(psim_sim *e, void *p, psim_error *err)
 {
     cmodel *m = p;
-    int regridded = 0, same, zero, rc = 0;
-    double vmax = 0;
-    PSIM_TIMED(e, CPHASE_DETECT, vmax = velocities(e, &same, &zero));
-    same &= m->skip, zero &= m->skip;
+    int regridded = 0, rc = 0;
+    cvel v;
+    /* the extent matters only where the pair search may be left out */
+    PSIM_TIMED(e, CPHASE_DETECT, v = velocities(e, m->skip && (m->gap >= 0 || m->same)));
+    int same = v.same && m->skip, zero = v.zero && m->skip;
+    m->same = same;
     /* the first step at rest still runs: its move turns a -0 position
      * into +0 (x + 0), after which x + 0 = x for every disk */
     int rest = zero && m->still;
@@ -166,18 +189,29 @@ static int interact(psim_sim *e, void *p, psim_error *err)
     if (rest) {
         e->stats.skipped[CS_MOVE]++;
         e->stats.skipped[CS_PAIRS]++;
+        e->stats.skipped[CS_WALLS]++;
         return 0;
     }
-    if (!same)
-        PSIM_TIMED(e, CPHASE_DETECT, rc = fit_grid(e, m, vmax, &regridded));
+    int pairs = !same && !(m->skip && ccd_flight_clear(m, v.vmax));
+    int walls = pairs || !(v.has_ext && ccd_walls_clear(m, v.vmax, v.ext));
+    if (pairs)
+        PSIM_TIMED(e, CPHASE_DETECT, rc = fit_grid(e, m, v.vmax, &regridded));
     if (rc == 0 && regridded)
         e->stats.counter[CC_REGRIDS]++;
-    if (rc == 0 && !same)
+    if (rc == 0 && pairs)
         psim_engine_sort(e);
-    e->stats.skipped[CS_PAIRS] += same;
+    e->stats.skipped[CS_PAIRS] += !pairs;
+    e->stats.skipped[CS_WALLS] += !walls;
     m->oom = 0;
+    uint64_t found = e->stats.counter[CC_PAIR_CANDIDATES];
     if (rc == 0)
-        PSIM_TIMED(e, CPHASE_DETECT, same ? ccd_detect_walls(e, m) : ccd_detect(e, m));
+        PSIM_TIMED(e, CPHASE_DETECT, pairs   ? ccd_detect(e, m)
+                                     : walls ? ccd_detect_walls(e, m)
+                                             : detect_none(m));
+    found = e->stats.counter[CC_PAIR_CANDIDATES] - found;
+    /* a search that found no pair candidate: how long no pair can meet */
+    if (rc == 0 && pairs && found == 0 && m->skip && !m->oom)
+        PSIM_TIMED(e, CPHASE_DETECT, ccd_flight_measure(e, m));
     if (rc == 0 && !m->oom)
         PSIM_TIMED(e, CPHASE_ORDER, rc = ccd_order(e, m));
     if (rc == 0 && !m->oom)
@@ -187,6 +221,7 @@ static int interact(psim_sim *e, void *p, psim_error *err)
         return -1;
     }
     PSIM_TIMED(e, PSIM_PHASE_MOVE, ccd_advance(e, m));
+    ccd_flight_step(m, v.vmax);
     return 0;
 }
 
@@ -232,7 +267,8 @@ const psim_model psim_model_ccd = {
     .output = {.to_stdout = 1, .initial = 1, .every_step = 1, .final = 1},
     .output_digits = 8,
     .options = {PSIM_SKIP_OPTION},
-    .skips = {[CS_PAIRS] = {"pairs", "one velocity for all: sort and pair search"},
+    .skips = {[CS_PAIRS] = {"pairs", "no pair can meet (one velocity, or free flight): sort and pair search"},
+              [CS_WALLS] = {"walls", "no disk can reach a wall (pairs left out too)"},
               [CS_MOVE] = {"move", "every velocity 0: nothing moves"},
               [CS_GRAPH] = {"task_graph", "one thread: detection runs in order, no tasks"}},
     .sorts_itself = 1,

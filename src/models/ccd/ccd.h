@@ -29,7 +29,7 @@ enum { CPHASE_DETECT = PSIM_PHASE_MODEL, CPHASE_ORDER, CPHASE_ACCEPT };
 enum { CC_PAIR_TESTS, CC_PAIR_CANDIDATES, CC_WALL_CANDIDATES, CC_PAIR_COLLISIONS,
        CC_WALL_COLLISIONS, CC_ACCEPT_ROUNDS, CC_TASKS, CC_REGRIDS };
 /* Stages left out where the scene cannot use them (ccd.c). */
-enum { CS_PAIRS, CS_MOVE, CS_GRAPH };
+enum { CS_PAIRS, CS_WALLS, CS_MOVE, CS_GRAPH };
 
 /* A candidate: disks by id, p < q, q = -1 for the wall; sp, sq their
  * places in the store this step. */
@@ -106,8 +106,22 @@ typedef struct cmodel {
     ccd_accept_mode accept_mode;
     int skip;               /* leave out what the scene cannot use (-O skip) */
     int still;              /* the last step had every velocity 0 */
+    int same;               /* the last step had one velocity for all */
+    /* free flight (flight.c) */
+    double gap;             /* every pair is more than 2r + gap apart (-1: unknown) */
+    int measured;           /* the gap was measured in the last step */
+    int wait, backoff;      /* searches before the next measurement */
     int oom;                /* a list could not grow this step */
 } cmodel;
+
+/* Slack of the swept boxes, the cells and the skips against round-off:
+ * the rules' arithmetic can make a candidate of a pair whose exact closest
+ * approach is a little over 2r (by about sqrt(eps) of the distances
+ * involved). */
+static inline double ccd_margin(const cmodel *m, double vmax)
+{
+    return 1e-6 * (m->L + 2 * vmax + m->r);
+}
 
 void ccd_detect(psim_sim *e, cmodel *m);
 void ccd_detect_walls(psim_sim *e, cmodel *m);
@@ -116,6 +130,13 @@ int ccd_accept(psim_sim *e, cmodel *m);
 void ccd_advance(psim_sim *e, cmodel *m);
 int ccd_check(psim_sim *e, void *m, const psim_snapshot *before,
               const psim_snapshot *after, psim_error *err);
+/* flight.c: whether no pair can meet this step (a gap measured and kept),
+ * whether no disk can reach a wall (ext: the positions' x and y extent);
+ * the gap after a search with no pair candidate; the gap after a step */
+int ccd_flight_clear(cmodel *m, double vmax);
+int ccd_walls_clear(const cmodel *m, double vmax, const double ext[4]);
+void ccd_flight_measure(psim_sim *e, cmodel *m);
+void ccd_flight_step(cmodel *m, double vmax);
 int ccd_cand_cmp(const ccand *a, const ccand *b);
 int ccd_list_push(clist *l, const ccand *c);
 void ccd_bands_free(cbands *b);

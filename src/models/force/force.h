@@ -25,7 +25,7 @@
 enum { FPHASE_NLIST = PSIM_PHASE_MODEL, FPHASE_FORCE, FPHASE_INTEGRATE };
 enum { FC_PAIR_TESTS, FC_INTERACTIONS, FC_REBUILDS, FC_LIST_ENTRIES, FC_TASKS, FC_SORTED };
 /* Stages left out where the scene cannot use them (force.c, step.c). */
-enum { FS_MOVE, FS_WALLS, FS_GRAPH };
+enum { FS_MOVE, FS_WALLS, FS_GRAPH, FS_LISTS };
 
 /* The course's constants (common.h). */
 #define CS267_DENSITY 0.0005
@@ -105,6 +105,9 @@ typedef struct fmodel {
     int naive, stats, skip;
     int simd;               /* list builds with AVX-512 (nlist.c) */
     double skin;            /* list radius = cutoff + skin */
+    double room;            /* every unlisted pair was more than cutoff +
+                             * room apart at the build (room >= skin) */
+    int room_wait, room_backoff; /* builds before the next measurement */
     double drift;           /* bound on half of any pair's relative
                              * displacement since the build */
     int quiet;              /* steps in a row with no force, speed or wall */
@@ -146,6 +149,10 @@ static inline int force_have_avx512(void)
     return 0;
 }
 #endif
+
+/* Sparse lists (fewer than one entry per FORCE_SPARSE particles) may have
+ * room beyond the skin: nlist.c then measures the nearest unlisted pair. */
+#define FORCE_SPARSE 8
 
 /* nlist.c: 0, -1 out of memory, -2 past the budget (crowded) */
 int force_build_lists(psim_sim *e, fmodel *m);

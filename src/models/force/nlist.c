@@ -12,6 +12,7 @@
  * three vectors of eight, the hits filed by shell with compress stores;
  * the same lists in another order); the few particles beyond SLOTS in a
  * cell are listed one by one. */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #ifdef __SSE2__
@@ -20,6 +21,7 @@
 
 #include "force.h"
 #include "../../engine/mem.h"
+#include "../../engine/nearest.h"
 #include "../../engine/timer.h"
 #include "../../engine/tstats.h"
 
@@ -395,6 +397,30 @@ static int list_tile(const psim_sim *e, ftile *t, uint32_t tile, const double *t
     return 0;
 }
 
+/* How far beyond the list radius the nearest unlisted pair was at the
+ * build: sparse lists (a dilute gas) may leave far more room than the
+ * skin.  Unlisted pairs in adjacent cells are more than reach apart and
+ * measured (psim_nearest2); pairs in cells further apart are at least a
+ * cell side h apart.  A measurement that gains little makes the next wait
+ * twice as long (up to 64 builds). */
+static void measure_room(psim_sim *e, fmodel *m, uint64_t entries, double reach2)
+{
+    m->room = m->skin;
+    if (!m->skip || entries * FORCE_SPARSE >= (uint64_t)e->n)
+        return;
+    if (m->room_wait > 0) {
+        m->room_wait--;
+        return;
+    }
+    double far = fmin(sqrt(psim_nearest2(e, reach2)), e->grid.h);
+    double room = far * (1 - 1e-12) - m->law.cutoff;
+    if (room > m->skin)
+        m->room = room;
+    int paid = room > 1.5 * m->skin;
+    m->room_backoff = paid ? 0 : (m->room_backoff * 2 + 1 < 64 ? m->room_backoff * 2 + 1 : 64);
+    m->room_wait = m->room_backoff;
+}
+
 /* Sort by cell and build every tile's lists, one task per tile (the tiles
  * write only their own lists: no dependencies). */
 int force_build_lists(psim_sim *e, fmodel *m)
@@ -435,6 +461,8 @@ int force_build_lists(psim_sim *e, fmodel *m)
             entries += m->tiles[t].len[b];
     }
     e->stats.counter[FC_LIST_ENTRIES] += entries;
+    if (!crowded && !oom)
+        measure_room(e, m, entries, thr[FORCE_BUCKETS - 1]);
     e->stats.counter[FC_REBUILDS]++;
     e->stats.counter[FC_TASKS] += graph ? m->ntiles : 0;
     e->stats.phase_s[FPHASE_NLIST] += psim_now() - t0;
