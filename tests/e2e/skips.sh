@@ -43,11 +43,27 @@ write("c_rest", 60, 1, 40, [(random.uniform(1, 59), random.uniform(1, 59), 0.0, 
 # a block moving as one into the walls: pairs skipped until it bounces
 write("c_wall", 100, 1, 300, [(20 + 2.5 * (k % 20), 20 + 2.5 * (k // 20), 0.3, -0.2)
                               for k in range(400)])
+# ccd free flight at its edges: pairs that touch exactly at the end of a
+# step after long free flight, or miss by 1e-12, and a gas whose gaps are
+# measured, spent and measured again between collisions
+# (each pair closes by 2 vmax a step, the most the skip allows for; they
+# touch at t = 1 of step 42, at t = 0.975, and 1e-12 after step 42)
+write("c_graze", 200, 1, 60, [(100.0, 10.0, 0.0, 0.5), (100.0, 54.0, 0.0, -0.5),
+                              (150.0, 10.0, 0.0, 0.5), (150.0, 53.975, 0.0, -0.5),
+                              (50.0, 10.0, 0.0, 0.5), (50.0, 54.0 + 1e-12, 0.0, -0.5)])
+random.seed(8)
+write("c_gas", 400, 1, 800, [(random.uniform(2, 398), random.uniform(2, 398),
+                              random.uniform(-0.1, 0.1), random.uniform(-0.1, 0.1))
+                             for k in range(100)])
 # force: at rest (and one particle at -0.0); moving as one
 random.seed(6)
 write("f_rest", 200, 1, 60, [(5 + 10 * (k % 19) + random.uniform(-1, 1),
                              5 + 10 * (k // 19) + random.uniform(-1, 1), 0.0, -0.0)
                             for k in range(361)] + [(-0.0, 7.0, 0.0, 0.0)])
+# two pairs meeting head-on after a long flight with empty lists (kept
+# past the skin: the nearest unlisted pair is measured)
+write("f_meet", 400, 1, 500, [(100.0, 200.0, 0.05, 0.0), (140.0, 200.0, -0.05, 0.0),
+                              (100.0, 300.0, 0.05, 0.0), (139.9, 300.0, -0.05, 0.0)])
 write("f_com", 400, 1, 200, [(100 + 2.5 * (k % 30), 100 + 2.5 * (k // 30), 0.03, -0.02)
                              for k in range(900)])
 PY
@@ -139,7 +155,12 @@ j=$tmp/approach.ccd1.json
 p=$(left_out "$j" pairs)
 ((p > 30 && p < 160 && $(counter "$j" pair_collisions) == 1 && $(counter "$j" wall_collisions) >= 2)) ||
     fail "ccd approach: pairs left out in $p steps (free flight until they meet), collisions $(counter "$j" pair_collisions) pair, $(counter "$j" wall_collisions) wall"
-same_without_skips ccd dilute nonfinite
+same_without_skips ccd dilute nonfinite c_graze c_gas
+for s in c_graze c_gas; do
+    j=$tmp/$s.ccd1.json
+    (($(left_out "$j" pairs) > 10 && $(counter "$j" pair_collisions) > 0)) ||
+        fail "ccd $s: free flight and collisions expected: pairs left out $(left_out "$j" pairs), collisions $(counter "$j" pair_collisions)"
+done
 j=$tmp/dilute.ccd3.json
 [[ $(left_out "$j" pairs) == 199 && $(left_out "$j" walls) == 199 ]] ||
     fail "ccd dilute: expected pairs and walls left out in 199 of 200 steps: $(grep -A5 left_out "$j")"
@@ -153,7 +174,9 @@ j=$tmp/dilute.ccd3.json
 # force: at rest (nothing changes after two quiet steps), moving as one
 # (the lists never go stale: particles that do not close in), no walls,
 # one thread; the same bytes as without the skips
-same_without_skips force f_rest f_com bouncing dilute
+same_without_skips force f_rest f_com bouncing dilute c_gas f_meet
+(($(left_out "$tmp/f_meet.force1.json" rebuilds) > 100 && $(counter "$tmp/f_meet.force1.json" interactions) > 0)) ||
+    fail "force f_meet: lists kept past the skin, then the pairs interact: $(grep -E 'rebuilds|interactions' "$tmp/f_meet.force1.json")"
 # a dilute lattice: the lists are kept past the skin (the nearest unlisted
 # pair is measured after a build with sparse lists)
 j=$tmp/dilute.force1.json
