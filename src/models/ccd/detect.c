@@ -37,6 +37,7 @@
 #include "ccd.h"
 #include "rules.h"
 #include "../../engine/mem.h"
+#include "../../engine/task.h"
 #include "../../engine/tstats.h"
 
 /* Cells with at least this many disks are cut into bands. */
@@ -616,6 +617,27 @@ static void task_band(detect_ctx *c, const cband *bd, uint32_t a0, uint32_t a1)
     psim_tstat_add(c->ts, CPHASE_DETECT, psim_now() - t0, 1, a1 - a0);
 }
 
+/* The three kinds of detection task (src/engine/task.h). */
+PSIM_TASK_SPAWN static void task_spawn_cells(detect_ctx *c, uint32_t f0, uint32_t f1)
+{
+#pragma omp task firstprivate(c, f0, f1) default(none) if (c->graph)
+    task_cells(c, f0, f1);
+}
+
+PSIM_TASK_SPAWN static void task_spawn_slice(detect_ctx *c, uint32_t cell, uint32_t k0,
+                                             uint32_t k1)
+{
+#pragma omp task firstprivate(c, cell, k0, k1) default(none) if (c->graph)
+    task_slice(c, cell, k0, k1);
+}
+
+PSIM_TASK_SPAWN static void task_spawn_band(detect_ctx *c, const cband *bd, uint32_t a0,
+                                            uint32_t a1)
+{
+#pragma omp task firstprivate(c, bd, a0, a1) default(none) if (c->graph)
+    task_band(c, bd, a0, a1);
+}
+
 /* Tasks of about `unit` rows or entries: runs of whole small cells, slices
  * of big cells, slices of bands; OpenMP tasks with no dependences
  * (detection only reads the start-of-step state).  Returns their number. */
@@ -632,8 +654,7 @@ static uint64_t spawn_tasks(detect_ctx *c, size_t unit)
         if ((cc == g->ncells || held + cn > unit || big) && cc > c0) {
             uint32_t f0 = c0, f1 = cc;
             tasks++;
-#pragma omp task firstprivate(c, f0, f1) default(none) if (c->graph)
-            task_cells(c, f0, f1);
+            task_spawn_cells(c, f0, f1);
             c0 = cc;
             held = 0;
         }
@@ -647,8 +668,7 @@ static uint64_t spawn_tasks(detect_ctx *c, size_t unit)
         for (uint32_t k = g->cellstart[cc]; k < end; k += (uint32_t)unit) {
             uint32_t cell = cc, k0 = k, k1 = end - k > unit ? k + (uint32_t)unit : end;
             tasks++;
-#pragma omp task firstprivate(c, cell, k0, k1) default(none) if (c->graph)
-            task_slice(c, cell, k0, k1);
+            task_spawn_slice(c, cell, k0, k1);
         }
         c0 = cc + 1;
     }
@@ -657,8 +677,7 @@ static uint64_t spawn_tasks(detect_ctx *c, size_t unit)
         for (uint32_t a = bd->e0; a < bd->e1; a += (uint32_t)unit) {
             uint32_t a0 = a, a1 = bd->e1 - a > unit ? a + (uint32_t)unit : bd->e1;
             tasks++;
-#pragma omp task firstprivate(c, bd, a0, a1) default(none) if (c->graph)
-            task_band(c, bd, a0, a1);
+            task_spawn_band(c, bd, a0, a1);
         }
     }
     return tasks;

@@ -6,6 +6,7 @@
 
 #include "collide.h"
 #include "discrete.h"
+#include "../../engine/task.h"
 #include "../../engine/tstats.h"
 
 /* Per-disk flags while resolving. */
@@ -197,6 +198,23 @@ static void timed_edge(const psim_sim *e, dmodel *m, size_t k, int first)
     psim_tstat_add(e->tstats, DPHASE_RESOLVE, psim_now() - t0, 1, 0);
 }
 
+/* A tile's task and an edge's (src/engine/task.h): a tile depends on its
+ * own slot, an edge on both of its tiles'. */
+PSIM_TASK_SPAWN static void task_spawn_tile(const psim_sim *e, dmodel *m, dtile *t, uint32_t ti,
+                                            int first)
+{
+#pragma omp task default(none) firstprivate(e, m, t, first) depend(inout : m->dep[ti])
+    timed_tile(e, m, t, first);
+}
+
+PSIM_TASK_SPAWN static void task_spawn_edge(const psim_sim *e, dmodel *m, size_t k, int first)
+{
+    const dedge *ed = &m->edges[k];
+#pragma omp task default(none) firstprivate(e, m, k, first) \
+    depend(inout : m->dep[ed->a]) depend(inout : m->dep[ed->b])
+    timed_edge(e, m, k, first);
+}
+
 /* Emit one round's task graph (with one thread, run its tasks in creation
  * order, which the dependences allow: no graph); returns the number of
  * work items. */
@@ -219,8 +237,7 @@ static uint64_t emit_round(const psim_sim *e, dmodel *m, int first)
             timed_tile(e, m, t, first);
             continue;
         }
-#pragma omp task default(none) firstprivate(e, m, t, first) depend(inout : m->dep[ti])
-        timed_tile(e, m, t, first);
+        task_spawn_tile(e, m, t, ti, first);
     }
     for (size_t k = 0; k < m->nedges; k++) {
         const dedge *ed = &m->edges[k];
@@ -232,9 +249,7 @@ static uint64_t emit_round(const psim_sim *e, dmodel *m, int first)
             timed_edge(e, m, k, first);
             continue;
         }
-#pragma omp task default(none) firstprivate(e, m, k, first) \
-    depend(inout : m->dep[ed->a]) depend(inout : m->dep[ed->b])
-        timed_edge(e, m, k, first);
+        task_spawn_edge(e, m, k, first);
     }
     return tasks;
 }

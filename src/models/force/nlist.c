@@ -22,6 +22,7 @@
 #include "force.h"
 #include "../../engine/mem.h"
 #include "../../engine/nearest.h"
+#include "../../engine/task.h"
 #include "../../engine/timer.h"
 #include "../../engine/tstats.h"
 
@@ -397,6 +398,22 @@ static int list_tile(const psim_sim *e, ftile *t, uint32_t tile, const double *t
     return 0;
 }
 
+/* Tile ft's list build as a task (src/engine/task.h); *oom set on failure. */
+PSIM_TASK_SPAWN static void task_spawn_list(psim_sim *e, ftile *ft, uint32_t t, const double *thr,
+                                            int simd, int graph, int *oom)
+{
+    psim_thread_stats *ts = e->tstats;
+#pragma omp task firstprivate(ft, t, simd, thr, oom, ts, e) default(none) if (graph)
+    {
+        double b0 = psim_now();
+        if (list_tile(e, ft, t, thr, simd)) {
+#pragma omp atomic write
+            *oom = 1;
+        }
+        psim_tstat_add(ts, FPHASE_NLIST, psim_now() - b0, 1, ft->n);
+    }
+}
+
 /* How far beyond the list radius the nearest unlisted pair was at the
  * build: sparse lists (a dilute gas) may leave far more room than the
  * skin.  Unlisted pairs in adjacent cells are more than reach apart and
@@ -436,23 +453,12 @@ int force_build_lists(psim_sim *e, fmodel *m)
         thr[b] = d * d;
     }
     int oom = 0;
-    psim_thread_stats *ts = e->tstats;
     const int graph = e->threads > 1;   /* one thread: the same calls in order */
     const int simd = m->simd;
 #pragma omp parallel num_threads(e->threads) if (graph)
 #pragma omp single
-    for (uint32_t t = 0; t < m->ntiles; t++) {
-        ftile *ft = &m->tiles[t];
-#pragma omp task firstprivate(ft, t) firstprivate(simd) shared(thr) shared(oom, ts, e) default(none) if (graph)
-        {
-            double b0 = psim_now();
-            if (list_tile(e, ft, t, thr, simd)) {
-#pragma omp atomic write
-                oom = 1;
-            }
-            psim_tstat_add(ts, FPHASE_NLIST, psim_now() - b0, 1, ft->n);
-        }
-    }
+    for (uint32_t t = 0; t < m->ntiles; t++)
+        task_spawn_list(e, &m->tiles[t], t, thr, simd, graph, &oom);
     uint64_t entries = 0;
     int crowded = 0;
     for (uint32_t t = 0; t < m->ntiles; t++) {

@@ -21,6 +21,7 @@
 
 #include "force.h"
 #include "../../engine/mem.h"
+#include "../../engine/task.h"
 #include "../../engine/timer.h"
 #include "../../engine/tstats.h"
 
@@ -355,20 +356,25 @@ static int active_shells(const fmodel *m)
 
 typedef void (*tile_fn)(const fmodel *m, psim_store *s, ftile *t);
 
+/* Tile ft's task running fn, timed as phase (src/engine/task.h). */
+PSIM_TASK_SPAWN static void task_spawn_tile(const fmodel *m, psim_store *s, psim_thread_stats *ts,
+                                            tile_fn fn, int phase, int graph, ftile *ft)
+{
+#pragma omp task firstprivate(ft, m, s, ts, fn, phase) default(none) if (graph)
+    {
+        double b0 = psim_now();
+        fn(m, s, ft);
+        psim_tstat_add(ts, phase, psim_now() - b0, 1, ft->n);
+    }
+}
+
 /* One task per tile running fn, timed as phase; returns when all are done
  * (called inside a parallel region's single). */
 static void run_tiles(const fmodel *m, psim_store *s, psim_thread_stats *ts, tile_fn fn,
                       int phase, int graph)
 {
-    for (uint32_t t = 0; t < m->ntiles; t++) {
-        ftile *ft = &m->tiles[t];
-#pragma omp task firstprivate(ft, m, s, ts, fn, phase) default(none) if (graph)
-        {
-            double b0 = psim_now();
-            fn(m, s, ft);
-            psim_tstat_add(ts, phase, psim_now() - b0, 1, ft->n);
-        }
-    }
+    for (uint32_t t = 0; t < m->ntiles; t++)
+        task_spawn_tile(m, s, ts, fn, phase, graph, &m->tiles[t]);
 #pragma omp taskwait
 }
 
