@@ -438,22 +438,44 @@ static int write_step(const run_opts *o, psim_sim *s, long k, long steps, run_st
     return 0;
 }
 
-/* The state is finite (0), or err names the disk that is not and, when
- * the step before was not checked, the last step that was seen finite. */
-static int finite_since(const psim_sim *s, long checked, psim_error *err)
+/* The first step whose state is not finite, found again: a state that
+ * overflowed is seen at step `seen`, and the last check before it was at
+ * step `checked` (finite).  The run is deterministic, so a second engine
+ * from the same scene and configuration steps to `checked` and checks
+ * every step after it (this costs at most the steps run so far, and only
+ * when a run fails).  err: the first bad step and disk, or unchanged when
+ * the second run cannot say. */
+static void first_nonfinite(const psim_scene *sc, const psim_config *cfg, long checked,
+                            long seen, psim_error *err)
+{
+    psim_error e2 = {{0}, 0};
+    psim_sim *s2 = psim_create(sc, cfg, &e2);
+    for (long k = 1; s2 && k < seen; k++) {
+        if (psim_step(s2, &e2))
+            break;
+        if (k > checked && psim_state_finite(s2, &e2)) {
+            *err = e2;
+            break;
+        }
+    }
+    psim_destroy(s2);
+}
+
+/* The state is finite (0), or err names the disk that is not, at the
+ * first step it was not (found again when the step before was not
+ * checked). */
+static int finite_since(const psim_sim *s, const psim_scene *sc, const psim_config *cfg,
+                        long checked, psim_error *err)
 {
     if (psim_state_finite(s, err) == 0)
         return 0;
-    if (psim_step_index(s) - checked > 1) {
-        psim_error first = *err;
-        psim_error_set(err, "%s (the state was last checked, and finite, after step %ld)",
-                       first.msg, checked);
-    }
+    if (psim_step_index(s) - checked > 1)
+        first_nonfinite(sc, cfg, checked, psim_step_index(s), err);
     return -1;
 }
 
-static int simulate(const run_opts *o, psim_sim *s, long steps, run_state *rs,
-                    psim_error *err)
+static int simulate(const run_opts *o, psim_sim *s, const psim_scene *sc,
+                    const psim_config *cfg, long steps, run_state *rs, psim_error *err)
 {
     progress pb;
     progress_init(&pb, steps, o->quiet);
@@ -466,9 +488,13 @@ static int simulate(const run_opts *o, psim_sim *s, long steps, run_state *rs,
     /* A state that overflowed is found at the step it happened: states
      * written every step are checked every step; otherwise as often as
      * costs about 1% of the steps' time (a check reads the whole state,
-     * so every step where a step is cheap, every few where it is not);
-     * the final state in any case. */
+     * so every step where a step is cheap, every few where it is not),
+     * and the final state in any case; a state found not finite after
+     * unchecked steps sends a second run to find the first bad step. */
     const int each = rs->trace.f || rs->print;
+    /* PSIM_CHECK_EVERY=N: a fixed interval instead (tests, docs/reliability.md) */
+    const char *ev = getenv("PSIM_CHECK_EVERY");
+    const long every = ev && atol(ev) > 0 ? atol(ev) : 0;
     double check_s = 0, steps_s = 0;
     long checked = 0;   /* the last step whose state was seen finite */
     for (long k = 1; k <= steps && rc == 0; k++) {
@@ -478,9 +504,9 @@ static int simulate(const run_opts *o, psim_sim *s, long steps, run_state *rs,
             break;
         }
         steps_s += psim_now() - t0;
-        if (each || k == steps || 0.01 * steps_s >= check_s) {
+        if (each || k == steps || (every ? k % every == 0 : 0.01 * steps_s >= check_s)) {
             double t1 = psim_now();
-            if (finite_since(s, checked, err)) {
+            if (finite_since(s, sc, cfg, checked, err)) {
                 rc = -1;
                 break;
             }
@@ -552,7 +578,7 @@ int cli_run(int argc, char **argv)
     if (open_outputs(&o, &rs))
         goto done;
     double t0 = psim_now();
-    if (simulate(&o, s, steps, &rs, &err)) {
+    if (simulate(&o, s, &sc, &cfg, steps, &rs, &err)) {
         fprintf(stderr, "psim: %s: %s\n", o.label, err.msg);
         goto done;
     }

@@ -108,4 +108,14 @@ expect_fail --rc 1 "step 1: disk 0 is no longer finite (x inf" "$PSIM" --quiet \
     --trace "$tmp/of.trace" --final "$tmp/of.out" "$tmp/overflow.in"
 expect_fail --rc 1 "step 1: disk 0 is no longer finite" "$PSIM" --quiet --final "$tmp/of.out" "$tmp/overflow.in"
 [[ ! -e $tmp/of.out && ! -e $tmp/of.trace ]] || fail "an overflowed run left an output"
+# the first bad step is named even when it was not checked: two particles
+# meet at one point at the start of step 11 and a force law without room
+# (cutoff 1e-3, mass 1e-300) makes their state NaN; checked every 4 steps
+# (PSIM_CHECK_EVERY), the run sees it at step 12 and a second run names 11
+printf '2\n100\n1\n30\n0 10 50 1 0\n1 20 50 0 0\n' > "$tmp/nan.in"
+for every in 1 4 7; do
+    PSIM_CHECK_EVERY=$every expect_fail --rc 1 "step 11: disk 0 is no longer finite" "$PSIM" --quiet \
+        --model force -O cutoff=1e-3 -O mass=1e-300 --final "$tmp/nan.out" "$tmp/nan.in"
+done
+[[ ! -e $tmp/nan.out ]] || fail "an overflowed run left an output"
 echo "extreme: ok"
