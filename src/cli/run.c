@@ -504,7 +504,9 @@ static int simulate(const run_opts *o, psim_sim *s, const psim_scene *sc,
             break;
         }
         steps_s += psim_now() - t0;
-        if (each || k == steps || (every ? k % every == 0 : 0.01 * steps_s >= check_s)) {
+        /* (under --check the engine has checked this state already) */
+        if (!cfg->check &&
+            (each || k == steps || (every ? k % every == 0 : 0.01 * steps_s >= check_s))) {
             double t1 = psim_now();
             if (finite_since(s, sc, cfg, checked, err)) {
                 rc = -1;
