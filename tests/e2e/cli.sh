@@ -61,6 +61,18 @@ if not (isinstance(s["pair_resolutions"], int) and s["pair_resolutions"] > 0):
     sys.exit(f"FAIL: 7 steps at density 0.3 should resolve some pairs: {s['pair_resolutions']}")
 PY
 [[ $(cut -d' ' -f1 "$tmp/s7.out" | sort -u) == 7 ]] || fail "--steps 7: --out lines should start with 7"
+# a scene name that is not UTF-8 (or has quotes) still gives valid JSON:
+# bytes outside well-formed UTF-8 become U+FFFD, valid UTF-8 stays as it is
+for nm in "bad$(printf '\xff')name" "half$(printf '\xc3')" "caf$(printf '\xc3\xa9')" 'q"uote\d'; do
+    cp "$tmp/s.in" "$tmp/$nm.in"
+    run_ok "$PSIM" --quiet --steps 1 --stats "$tmp/name.json" "$tmp/$nm.in"
+    python3 - "$tmp/name.json" "$tmp/$nm.in" <<'PY' || fail "--stats of scene '$nm' is not valid JSON or misnames it"
+import json, os, sys
+name = json.load(open(sys.argv[1], encoding="utf-8"))["scene"]
+want = os.fsencode(sys.argv[2]).decode("utf-8", errors="replace")
+sys.exit(0 if name == want else f"scene {name!r}, expected {want!r}")
+PY
+done
 
 # --steps 0 writes the initial state, and the default (shortest) format
 # reads back to exactly the numbers of the scene psim gen wrote.
