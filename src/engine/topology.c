@@ -19,6 +19,9 @@ struct psim_topo {
     int *core_kind;              /* per core: rank of its kind */
     char kind_name[MAX_KINDS][48];
     char kinds_error[256];       /* unranked kinds we cannot tell apart */
+    hwloc_bitmap_t allowed;      /* this process's CPU mask (taskset, cpuset
+                                  * cgroup); NULL: every PU (a foreign XML) */
+    int allowed_cores;           /* cores with a PU in it */
 };
 
 /* ---- loading and CPU kinds --------------------------------------------- */
@@ -110,6 +113,35 @@ static void rank_kinds(psim_topo *t)
         hwloc_bitmap_free(set[k]);
 }
 
+/* The CPUs this process may run on, as hwloc-bind and likwid-pin respect
+ * them: a plan never leaves the mask `taskset` or a cpuset gave psim.  On a
+ * foreign topology (XML) there is no such mask. */
+static void allowed_cpus(psim_topo *t)
+{
+    t->allowed = NULL;
+    t->allowed_cores = t->ncores;
+    if (!hwloc_topology_is_thissystem(t->h))
+        return;
+    hwloc_bitmap_t set = hwloc_bitmap_alloc();
+    if (!set || hwloc_get_cpubind(t->h, set, HWLOC_CPUBIND_PROCESS) != 0 ||
+        hwloc_bitmap_iszero(set)) {
+        hwloc_bitmap_free(set);
+        return;
+    }
+    t->allowed = set;
+    t->allowed_cores = 0;
+    for (int c = 0; c < t->ncores; c++) {
+        hwloc_obj_t core = hwloc_get_obj_by_type(t->h, t->core_type, (unsigned)c);
+        t->allowed_cores += hwloc_bitmap_intersects(core->cpuset, set);
+    }
+}
+
+/* Whether PU pu may be used (in the process's mask). */
+static int pu_allowed(const psim_topo *t, int pu)
+{
+    return !t->allowed || hwloc_bitmap_isset(t->allowed, (unsigned)pu);
+}
+
 psim_topo *psim_topo_wrap(void *hwloc_topology, psim_error *err)
 {
     psim_topo *t = calloc(1, sizeof *t);
@@ -132,6 +164,7 @@ psim_topo *psim_topo_wrap(void *hwloc_topology, psim_error *err)
         return NULL;
     }
     rank_kinds(t);
+    allowed_cpus(t);
     return t;
 }
 
@@ -161,6 +194,8 @@ void psim_topo_free(psim_topo *t)
         return;
     if (t->h)
         hwloc_topology_destroy(t->h);
+    if (t->allowed)
+        hwloc_bitmap_free(t->allowed);
     free(t->core_kind);
     free(t);
 }
@@ -261,7 +296,7 @@ static int select_cores(const psim_topo *t, const psim_pin_policy *p, char *sel,
     }
     if (kindwise && t->nkinds <= 1)
         snprintf(notice, nlen, "one CPU kind on this machine: --pin=%s uses every core", name);
-    int want = p->kind == PSIM_PIN_PCORES ? t->nkinds - 1 : 0, count = 0;
+    int want = p->kind == PSIM_PIN_PCORES ? t->nkinds - 1 : 0, count = 0, cut = 0;
     for (int c = 0; c < t->ncores; c++) {
         hwloc_obj_t core = hwloc_get_obj_by_type(t->h, t->core_type, (unsigned)c);
         int in = 1;
@@ -269,13 +304,25 @@ static int select_cores(const psim_topo *t, const psim_pin_policy *p, char *sel,
             in = t->core_kind[c] == want;
         if (node)
             in = node->cpuset && hwloc_bitmap_intersects(core->cpuset, node->cpuset);
+        int ok = !t->allowed || hwloc_bitmap_intersects(core->cpuset, t->allowed);
+        cut += in && !ok;
+        in = in && ok;
         sel[c] = (char)in;
         count += in;
     }
     if (count == 0) {
-        psim_error_set(err, "--pin=%s: no cores match on this machine", name);
+        if (cut)
+            psim_error_set(err, "--pin=%s: none of its %d cores is in this process's CPU mask "
+                                "(taskset or cpuset: %d of %d cores allowed)",
+                           name, cut, t->allowed_cores, t->ncores);
+        else
+            psim_error_set(err, "--pin=%s: no cores match on this machine", name);
         return -1;
     }
+    if (cut)
+        snprintf(notice, nlen, "--pin=%s: left out %d of its %d cores, outside this process's "
+                               "CPU mask (taskset or cpuset)",
+                 name, cut, count + cut);
     return count;
 }
 
@@ -307,9 +354,13 @@ int psim_pin_plan_make(const psim_topo *t, const psim_pin_policy *p,
             if (!sel[c])
                 continue;
             hwloc_obj_t core = hwloc_get_obj_by_type(t->h, t->core_type, (unsigned)c);
-            int pu = hwloc_bitmap_first(core->cpuset);
-            for (int k = 0; k < r && pu >= 0; k++)
+            int pu = hwloc_bitmap_first(core->cpuset);   /* its r-th allowed PU */
+            while (pu >= 0 && !pu_allowed(t, pu))
                 pu = hwloc_bitmap_next(core->cpuset, pu);
+            for (int k = 0; k < r && pu >= 0; k++)
+                do
+                    pu = hwloc_bitmap_next(core->cpuset, pu);
+                while (pu >= 0 && !pu_allowed(t, pu));
             if (pu < 0)
                 continue;
             slots[n++] = (psim_pin_slot){pu, c, t->nkinds > 1 ? t->core_kind[c] : 0,

@@ -44,6 +44,29 @@ same_file "$tmp/free.out" "$tmp/all.out" "pinned and unpinned runs"
 run_ok "$PSIM" --quiet --threads 2 --mem interleave --out "$tmp/il.out" "$tmp/s.in"
 same_file "$tmp/free.out" "$tmp/il.out" "--mem=interleave"
 
+# the process's CPU mask (taskset) is respected, as hwloc-bind and likwid-pin
+# do: a plan never leaves it, and psim says what it left out
+if command -v taskset >/dev/null && (($(nproc --all) >= 2)); then
+    last=$(($(nproc --all) - 1))
+    if taskset -c "$last" true 2>/dev/null; then
+        plan=$(taskset -c "$last" "$PSIM" --pin cores --dry-run 2>"$tmp/mask.err")
+        pus=$(awk '$1 ~ /^[0-9]+$/ {print $2}' <<<"$plan" | sort -u | tr '\n' ' ')
+        [[ $pus == "$last " ]] || fail "taskset -c $last: the plan should use PU $last only, got '$pus': $plan"
+        grep -q "left out .* cores, outside this process's CPU mask" "$tmp/mask.err" ||
+            fail "taskset: no notice of the cores left out: $(cat "$tmp/mask.err")"
+        taskset -c "$last" "$PSIM" --pin cores --threads 2 -q --stats "$tmp/mask.json" "$tmp/s.in" ||
+            fail "a pinned run under taskset failed"
+        python3 - "$tmp/mask.json" "$last" <<'PY' || fail "pinned threads left the taskset mask"
+import json, sys
+p = json.load(open(sys.argv[1]))["placement"]
+assert p and all(t["pu"] == int(sys.argv[2]) == t["observed_pu"] for t in p), p
+PY
+        # a foreign topology has no mask: its plans stay whole
+        taskset -c "$last" "$PSIM" plan --topology "$numa" --pin cores 2>&1 | grep -q "left out" &&
+            fail "a foreign topology's plan should not follow this process's mask"
+    fi
+fi
+
 # errors: one line each
 expect_fail --rc 1 "this machine has 2 NUMA nodes (0..1)" "$PSIM" plan --topology "$numa" --pin numa:2
 expect_fail --rc 2 "unknown policy 'fastest'" "$PSIM" --pin fastest "$tmp/s.in"
