@@ -9,6 +9,8 @@ int cli_run(int argc, char **argv);   /* psim [OPTIONS] [SCENE [THREADS]] */
 int cli_gen(int argc, char **argv);   /* psim gen [OPTIONS] */
 int cli_plan(int argc, char **argv);  /* psim plan | psim topo */
 int cli_models(int argc, char **argv); /* psim models */
+/* --version of psim and of every subcommand (release, git commit, build) */
+void cli_version(FILE *f);
 
 /* The most threads psim runs (--threads, THREADS, OMP_NUM_THREADS). */
 #define CLI_MAX_THREADS 4096

@@ -28,7 +28,8 @@ static void gen_usage(FILE *f)
 "      --place P       uniform (default), nonoverlap (random, no overlaps) or\n"
 "                      lattice (jittered square lattice, no overlaps)\n"
 "  -o, --out FILE      write here instead of standard output\n"
-"  -h, --help          show this help\n");
+"  -h, --help          show this help\n"
+"  -V, --version       show the version\n");
 }
 
 static int parse_place(const char *s, psim_place *p)
@@ -54,7 +55,8 @@ int cli_gen(int argc, char **argv)
         {"steps", required_argument, 0, 's'},  {"vmin", required_argument, 0, 'a'},
         {"vmax", required_argument, 0, 'b'},   {"seed", required_argument, 0, 'k'},
         {"place", required_argument, 0, 'p'},  {"out", required_argument, 0, 'o'},
-        {"help", no_argument, 0, 'h'},         {0, 0, 0, 0}};
+        {"help", no_argument, 0, 'h'},         {"version", no_argument, 0, 'V'},
+        {0, 0, 0, 0}};
     psim_gen_params p = {.n = 1000, .L = 0, .r = 1, .steps = 100, .vmin = -1,
                          .vmax = 1, .seed = 1, .place = PSIM_PLACE_UNIFORM};
     double density = 0, seed = 1;
@@ -62,7 +64,7 @@ int cli_gen(int argc, char **argv)
     opterr = 0;
     optind = 1;
     int c;
-    while ((c = getopt_long(argc, argv, ":n:L:r:s:o:h", longs, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, ":n:L:r:s:o:hV", longs, NULL)) != -1) {
         int bad = 0;
         switch (c) {
         case 'n': bad = cli_long("--n", optarg, 0, 2147483647L, &p.n); break;
@@ -76,6 +78,7 @@ int cli_gen(int argc, char **argv)
         case 'p': bad = parse_place(optarg, &p.place); break;
         case 'o': out = optarg; break;
         case 'h': gen_usage(stdout); return 0;
+        case 'V': cli_version(stdout); return 0;
         default:
             cli_bad_option("gen", argv, c);
             return 2;

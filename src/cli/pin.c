@@ -131,6 +131,7 @@ static void plan_usage(FILE *f, const char *cmd)
         fprintf(f, "usage: psim plan [--pin POLICY] [--threads N] [--topology FILE.xml]\n\n"
                    "Print where each thread would run: thread, PU, core, CPU kind, NUMA node.\n"
                    "POLICY: pcores, ecores, cores, all, numa:K, none (default: cores).\n");
+    fprintf(f, "\n  -h, --help     show this help\n  -V, --version  show the version\n");
 }
 
 /* psim plan / psim topo */
@@ -141,6 +142,7 @@ int cli_plan(int argc, char **argv)
         {"topology", required_argument, 0, CLI_OPT_TOPOLOGY},
         {"threads", required_argument, 0, 't'},
         {"help", no_argument, 0, 'h'},
+        {"version", no_argument, 0, 'V'},
         {0, 0, 0, 0}};
     const char *cmd = argv[0];
     int topo_only = strcmp(cmd, "topo") == 0;
@@ -150,9 +152,12 @@ int cli_plan(int argc, char **argv)
     opterr = 0;
     optind = 1;
     int c;
-    while ((c = getopt_long(argc, argv, ":t:h", longs, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, ":t:hV", longs, NULL)) != -1) {
         if (c == 'h') {
             plan_usage(stdout, cmd);
+            return 0;
+        } else if (c == 'V') {
+            cli_version(stdout);
             return 0;
         } else if (c == 't' && !topo_only) {
             if (cli_long("--threads", optarg, 1, CLI_MAX_THREADS, &threads))

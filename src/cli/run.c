@@ -257,7 +257,7 @@ static int parse_run(int argc, char **argv, run_opts *o)
             if (cli_pin_option(&o->pin, c, optarg)) return 2;
             break;
         case 'h': run_usage(stdout); return -1;
-        case 'V': printf("psim %s (%s, OpenMP %d)\n", PSIM_VERSION, psim_allocator(), _OPENMP); return -1;
+        case 'V': cli_version(stdout); return -1;
         default:
             cli_bad_option(NULL, argv, c);
             return 2;
@@ -635,7 +635,16 @@ done:
 /* psim models: one line per model. */
 int cli_models(int argc, char **argv)
 {
-    (void)argv;
+    if (argc == 2 && (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h"))) {
+        printf("usage: psim models\n\nList the models, one line each, with their options "
+               "(--option NAME=V).\n\noptions:\n  -h, --help     show this help\n"
+               "  -V, --version  show the version\n");
+        return 0;
+    }
+    if (argc == 2 && (!strcmp(argv[1], "--version") || !strcmp(argv[1], "-V"))) {
+        cli_version(stdout);
+        return 0;
+    }
     if (argc > 1) {
         fprintf(stderr, "psim models: unexpected argument '%s'\n", argv[1]);
         return 2;

@@ -7,7 +7,10 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <hwloc.h>
+
 #include "cli.h"
+#include "psim/psim.h"
 #include "../engine/timer.h"
 
 int cli_long(const char *opt, const char *text, long lo, long hi, long *out)
@@ -313,4 +316,26 @@ void progress_done(progress *p)
 {
     if (p->shown)
         fprintf(stderr, "\r%*s\r", 70, "");
+}
+
+/* psim --version (and every subcommand's): the release, the git commit
+ * psim was built from, the build's options and what it runs with. */
+extern const char psim_git_commit[];
+
+void cli_version(FILE *f)
+{
+    fprintf(f, "psim %s (git %s)\n", PSIM_VERSION, psim_git_commit);
+#ifdef PSIM_BUILD_OPTIONS
+    fprintf(f, "built: %s\n", PSIM_BUILD_OPTIONS);
+#endif
+    unsigned h = hwloc_get_api_version();
+    fprintf(f, "with: OpenMP %d, allocator %s, hwloc API %u.%u", _OPENMP, psim_allocator(),
+            h >> 16, (h >> 8) & 0xff);
+#if defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__))
+    __builtin_cpu_init();
+    fprintf(f, ", this CPU %s AVX-512 (force list builds)",
+            __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") ? "has"
+                                                                                  : "lacks");
+#endif
+    fputc('\n', f);
 }

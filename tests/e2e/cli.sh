@@ -15,6 +15,21 @@ done
 run_ok "$PSIM" -h | cmp -s - "$tmp/help.txt" || fail "-h differs from --help"
 version=$("$PSIM" --version) || fail "--version failed"
 [[ $version =~ ^psim\ 0\.1\.0($|\ ) ]] || fail "--version printed '$version', expected 'psim 0.1.0...'"
+# every subcommand takes --version and --help; the version names the git
+# commit psim was built from and the build's options
+for sub in "" gen plan topo models; do
+    # shellcheck disable=SC2086
+    v=$("$PSIM" $sub --version) || fail "psim $sub --version failed"
+    [[ $(head -1 <<<"$v") =~ ^psim\ 0\.1\.0\ \(git\ ([0-9a-f]{12}(-dirty)?|unknown.*)\)$ ]] ||
+        fail "psim $sub --version: first line '$(head -1 <<<"$v")' should name the git commit"
+    grep -q "^built: .*, flags '" <<<"$v" || fail "psim $sub --version: no build options: $v"
+    # shellcheck disable=SC2086
+    "$PSIM" $sub --help | grep -q -- "--version" || fail "psim $sub --help does not list --version"
+done
+src=$(cd "$(dirname "$0")/../.." && pwd)
+if head=$(git -C "$src" rev-parse --short=12 HEAD 2>/dev/null); then
+    [[ $version == *"(git $head"* ]] || fail "--version names another commit than HEAD ($head): $version"
+fi
 run_ok "$PSIM" gen --help >"$tmp/genhelp.txt"
 for opt in --n --density --place --seed --out; do
     grep -q -- "$opt" "$tmp/genhelp.txt" || fail "gen --help does not mention $opt"
