@@ -46,3 +46,8 @@ double psim_nearest2(const psim_sim *e, double above2)
     }
     return best;
 }
+
+double psim_nearest_bound(const psim_sim *e, double above2)
+{
+    return fmin(sqrt(psim_nearest2(e, above2)), e->grid.h) * (1 - 1e-12);
+}

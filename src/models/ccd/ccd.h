@@ -24,6 +24,7 @@
 #include <stdint.h>
 
 #include "../../engine/engine.h"
+#include "../../engine/nearest.h"
 
 enum { CPHASE_DETECT = PSIM_PHASE_MODEL, CPHASE_ORDER, CPHASE_ACCEPT };
 enum { CC_PAIR_TESTS, CC_PAIR_CANDIDATES, CC_WALL_CANDIDATES, CC_PAIR_COLLISIONS,
@@ -110,7 +111,7 @@ typedef struct cmodel {
     /* free flight (flight.c) */
     double gap;             /* every pair is more than 2r + gap apart (-1: unknown) */
     int measured;           /* the gap was measured in the last step */
-    int wait, backoff;      /* searches before the next measurement */
+    psim_backoff measure;   /* searches before the next measurement */
     int oom;                /* a list could not grow this step */
 } cmodel;
 

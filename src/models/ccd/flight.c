@@ -13,25 +13,20 @@
  *          x + vx > L - r - 1e-14 (likewise y): none while the positions'
  *          extent lies more than vmax (plus the margin) inside those lines.
  * A measurement that left out nothing makes the next wait twice as long
- * (up to FLIGHT_MAX_WAIT searches), so a scene whose pairs stay close pays
+ * (psim_backoff, up to 64 searches), so a scene whose pairs stay close pays
  * for few measurements; its searches are the same as without. */
 #include <float.h>
-#include <math.h>
 
 #include "ccd.h"
 #include "rules.h"
 #include "../../engine/nearest.h"
-
-#define FLIGHT_MAX_WAIT 64
 
 int ccd_flight_clear(cmodel *m, double vmax)
 {
     int clear = m->gap >= 0 && m->gap > 2 * vmax + ccd_margin(m, vmax);
     if (m->measured) {   /* the first step after a measurement: did it pay? */
         m->measured = 0;
-        m->backoff = clear ? 0 : (m->backoff * 2 + 1 < FLIGHT_MAX_WAIT ? m->backoff * 2 + 1
-                                                                      : FLIGHT_MAX_WAIT);
-        m->wait = clear ? 0 : m->backoff;
+        psim_backoff_settle(&m->measure, clear);
     }
     return clear;
 }
@@ -44,12 +39,9 @@ int ccd_walls_clear(const cmodel *m, double vmax, const double ext[4])
 
 void ccd_flight_measure(psim_sim *e, cmodel *m)
 {
-    if (m->wait > 0) {
-        m->wait--;
+    if (!psim_backoff_due(&m->measure))
         return;
-    }
-    double d = fmin(sqrt(psim_nearest2(e, -1)), e->grid.h);
-    double gap = d * (1 - 1e-12) - 2 * m->r * (1 + 1e-12);
+    double gap = psim_nearest_bound(e, -1) - 2 * m->r * (1 + 1e-12);
     m->gap = gap >= 0 ? gap : -1;
     m->measured = 1;
 }

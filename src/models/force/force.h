@@ -20,6 +20,7 @@
 #include <stdint.h>
 
 #include "../../engine/engine.h"
+#include "../../engine/nearest.h"
 #include "law.h"
 
 enum { FPHASE_NLIST = PSIM_PHASE_MODEL, FPHASE_FORCE, FPHASE_INTEGRATE };
@@ -107,7 +108,7 @@ typedef struct fmodel {
     double skin;            /* list radius = cutoff + skin */
     double room;            /* every unlisted pair was more than cutoff +
                              * room apart at the build (room >= skin) */
-    int room_wait, room_backoff; /* builds before the next measurement */
+    psim_backoff measure;   /* builds before the next measurement */
     double drift;           /* bound on half of any pair's relative
                              * displacement since the build */
     int quiet;              /* steps in a row with no force, speed or wall */

@@ -12,7 +12,6 @@
  * three vectors of eight, the hits filed by shell with compress stores;
  * the same lists in another order); the few particles beyond SLOTS in a
  * cell are listed one by one. */
-#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #ifdef __SSE2__
@@ -21,7 +20,6 @@
 
 #include "force.h"
 #include "../../engine/mem.h"
-#include "../../engine/nearest.h"
 #include "../../engine/task.h"
 #include "../../engine/timer.h"
 #include "../../engine/tstats.h"
@@ -425,17 +423,12 @@ static void measure_room(psim_sim *e, fmodel *m, uint64_t entries, double reach2
     m->room = m->skin;
     if (!m->skip || entries * FORCE_SPARSE >= (uint64_t)e->n)
         return;
-    if (m->room_wait > 0) {
-        m->room_wait--;
+    if (!psim_backoff_due(&m->measure))
         return;
-    }
-    double far = fmin(sqrt(psim_nearest2(e, reach2)), e->grid.h);
-    double room = far * (1 - 1e-12) - m->law.cutoff;
+    double room = psim_nearest_bound(e, reach2) - m->law.cutoff;
     if (room > m->skin)
         m->room = room;
-    int paid = room > 1.5 * m->skin;
-    m->room_backoff = paid ? 0 : (m->room_backoff * 2 + 1 < 64 ? m->room_backoff * 2 + 1 : 64);
-    m->room_wait = m->room_backoff;
+    psim_backoff_settle(&m->measure, room > 1.5 * m->skin);
 }
 
 /* Sort by cell and build every tile's lists, one task per tile (the tiles
