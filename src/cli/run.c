@@ -94,7 +94,6 @@ static void run_usage(FILE *f)
 "--check, collisions that do not settle), 2 usage.\n");
 }
 
-/* "-" or an existing device or FIFO: may take several outputs */
 /* The absolute name of path, whether or not it exists yet (its folder's
  * real path and its own name); NULL when that cannot be found. */
 static char *canonical(const char *path)
@@ -127,6 +126,7 @@ static int same_file(const char *a, const char *b)
     return same;
 }
 
+/* "-" or an existing device or FIFO: may take several outputs */
 static int is_stream(const char *path)
 {
     struct stat st;
@@ -589,12 +589,13 @@ int cli_run(int argc, char **argv)
     double loop_s = psim_now() - t0;
     double secs = loop_s - psim_get_stats(s)->phase_s[PSIM_PHASE_OUTPUT];
     if (rs.out.f && rs.style.final && write_out(s, rs.out.f, steps, 1, o.digits)) {
-        fprintf(stderr, "psim: %s: write failed: %s\n", rs.out.name, strerror(errno ? errno : EIO));
+        set_write_failed(&err, rs.out.name);
+        fprintf(stderr, "psim: %s\n", err.msg);
         goto done;
     }
     if (rs.final.f && write_trace(s, rs.final.f, steps, o.digits)) {
-        fprintf(stderr, "psim: %s: write failed: %s\n", rs.final.name,
-                strerror(errno ? errno : EIO));
+        set_write_failed(&err, rs.final.name);
+        fprintf(stderr, "psim: %s\n", err.msg);
         goto done;
     }
     if ((o.report || o.stats) && !o.pin.topo)
