@@ -329,13 +329,6 @@ void cli_version(FILE *f)
     fprintf(f, "built: %s\n", PSIM_BUILD_OPTIONS);
 #endif
     unsigned h = hwloc_get_api_version();
-    fprintf(f, "with: OpenMP %d, allocator %s, hwloc API %u.%u", _OPENMP, psim_allocator(),
+    fprintf(f, "with: OpenMP %d, allocator %s, hwloc API %u.%u\n", _OPENMP, psim_allocator(),
             h >> 16, (h >> 8) & 0xff);
-#if defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__))
-    __builtin_cpu_init();
-    fprintf(f, ", this CPU %s AVX-512 (force list builds)",
-            __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") ? "has"
-                                                                                  : "lacks");
-#endif
-    fputc('\n', f);
 }
