@@ -47,7 +47,12 @@ double psim_nearest2(const psim_sim *e, double above2)
     return best;
 }
 
+double psim_distance_bound(const psim_sim *e, double d2)
+{
+    return fmin(sqrt(d2), e->grid.h) * (1 - 1e-12);
+}
+
 double psim_nearest_bound(const psim_sim *e, double above2)
 {
-    return fmin(sqrt(psim_nearest2(e, above2)), e->grid.h) * (1 - 1e-12);
+    return psim_distance_bound(e, psim_nearest2(e, above2));
 }

@@ -13,10 +13,14 @@
  * count; NaN positions are in no comparison and are left out. */
 double psim_nearest2(const psim_sim *e, double above2);
 
-/* A distance that every pair farther apart than sqrt(above2) exceeds:
- * the nearest such pair in adjacent cells, at most a cell side (pairs in
- * cells further apart are at least that far), less a relative 1e-12 for
- * the rounding of the distances. */
+/* A distance that every pair exceeds, given d2, the squared distance of
+ * the nearest pair in the same or adjacent cells (of those that count):
+ * that distance, at most a cell side (pairs in cells further apart are at
+ * least that far), less a relative 1e-12 for the rounding of distances. */
+double psim_distance_bound(const psim_sim *e, double d2);
+
+/* The same for the pairs farther apart than sqrt(above2), measured:
+ * psim_distance_bound(e, psim_nearest2(e, above2)). */
 double psim_nearest_bound(const psim_sim *e, double above2);
 
 /* When to measure again: a measurement that paid is made again at the

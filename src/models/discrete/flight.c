@@ -30,6 +30,7 @@
 
 #include "collide.h"
 #include "discrete.h"
+#include "../../engine/nearest.h"
 #include "../../engine/tstats.h"
 
 static void extent_init(dextent *x)
@@ -178,8 +179,7 @@ void discrete_flight_searched(const psim_sim *e, dmodel *m)
     dflight *f = &m->fl;
     if (!f->enabled || !f->measured || m->step_contacts)
         return;
-    double d = fmin(sqrt(m->d2min), e->grid.h);
-    f->gap = d * (1 - 1e-12) - 2 * e->r * (1 + 1e-12) - rounding(&f->ext);
+    f->gap = psim_distance_bound(e, m->d2min) - 2 * e->r * (1 + 1e-12) - rounding(&f->ext);
 }
 
 void discrete_walls_only(psim_sim *e, dmodel *m)
