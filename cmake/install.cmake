@@ -5,11 +5,14 @@
 #   lib/cmake/psim/psim{Config,ConfigVersion,Targets}.cmake
 #                                              find_package(psim), psim::psim
 #   lib/pkgconfig/psim.pc                      pkg-config --static psim
+#   share/man/man1/psim.1                      the man page
+#   share/bash-completion/completions/psim     the bash completion
 #
 # (lib, include, share: GNUInstallDirs' CMAKE_INSTALL_LIBDIR and the others.)
 # Nothing installed names the build tree or the prefix: the CMake files
 # find the prefix from their own place, psim.pc from ${pcfiledir}, so the
-# installed tree can be moved.
+# installed tree can be moved.  The man page and the completion are written
+# at build time from the built psim's own --help (cmake/psim_docs.py).
 include(CMakePackageConfigHelpers)
 
 set(PSIM_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/psim)
@@ -77,3 +80,25 @@ string(REGEX REPLACE "/$" "" PSIM_PC_TO_PREFIX "${PSIM_PC_TO_PREFIX}")
 configure_file(${PROJECT_SOURCE_DIR}/cmake/psim.pc.in ${PROJECT_BINARY_DIR}/package/psim.pc @ONLY)
 install(FILES ${PROJECT_BINARY_DIR}/package/psim.pc DESTINATION ${PSIM_PC_DIR}
         COMPONENT Development)
+
+# ---- man page and bash completion, from the built psim's --help -------------
+# python3 with its standard library only (a dependency already:
+# scripts/install-deps.sh, tests/stability)
+find_package(Python3 REQUIRED COMPONENTS Interpreter)
+set(PSIM_MAN ${PROJECT_BINARY_DIR}/doc/psim.1)
+set(PSIM_COMPLETION ${PROJECT_BINARY_DIR}/doc/psim.bash)
+add_custom_command(
+  OUTPUT ${PSIM_MAN} ${PSIM_COMPLETION}
+  COMMAND Python3::Interpreter ${PROJECT_SOURCE_DIR}/cmake/psim_docs.py
+          --psim $<TARGET_FILE:psim> --version ${PROJECT_VERSION}
+          --description "${PROJECT_DESCRIPTION}"
+          --man ${PSIM_MAN}
+          --completion-template ${PROJECT_SOURCE_DIR}/cmake/psim-completion.bash.in
+          --completion ${PSIM_COMPLETION}
+  DEPENDS psim ${PROJECT_SOURCE_DIR}/cmake/psim_docs.py
+          ${PROJECT_SOURCE_DIR}/cmake/psim-completion.bash.in
+  COMMENT "psim.1 and the bash completion from psim --help" VERBATIM)
+add_custom_target(psim_docs ALL DEPENDS ${PSIM_MAN} ${PSIM_COMPLETION})
+install(FILES ${PSIM_MAN} DESTINATION ${CMAKE_INSTALL_MANDIR}/man1 COMPONENT Runtime)
+install(FILES ${PSIM_COMPLETION} DESTINATION ${CMAKE_INSTALL_DATADIR}/bash-completion/completions
+        RENAME psim COMPONENT Runtime)
