@@ -72,7 +72,7 @@ if [[ $what == tree ]]; then
     for p in "$stage" "$PSIM_INSTALL_BUILD" "$PSIM_INSTALL_SOURCE"; do
         if hits=$(grep -lF -- "$p" "${texts[@]}"); then
             echo "FAIL: installed files name $p (they must not, to be relocatable):" >&2
-            echo "$hits" | sed 's/^/  /' >&2
+            printf '  %s\n' "$hits" >&2
             exit 1
         fi
     done
@@ -83,6 +83,7 @@ fi
 
 [[ -d $prefix ]] || { echo "FAIL: no installed tree at $prefix (the fixture install.tree makes it)" >&2; exit 1; }
 # the e2e helpers (fail, run_ok, same_file, gen) with the installed psim
+# shellcheck source-path=SCRIPTDIR source=../e2e/lib.sh
 source "$here/../e2e/lib.sh" "$prefix/$PSIM_INSTALL_BINDIR/psim"
 version=$PSIM_INSTALL_VERSION
 help_texts=("--help" "gen --help" "plan --help" "topo --help" "models --help")
@@ -109,6 +110,7 @@ run_consumer()
 help_options()
 {
     local text
+    # shellcheck disable=SC2086 # "gen --help": two words
     text=$("$PSIM" $1) || fail "psim $1 failed"
     {
         grep -oE '^ {1,7}(-[A-Za-z0-9], )?--[A-Za-z0-9][A-Za-z0-9-]*' <<<"$text" |
@@ -259,7 +261,7 @@ $(diff <(echo "$2") <(echo "$3") | sed -n 's/^[<>]/  &/p')
         local what=$1 got=$2 w
         shift 2
         for w in "$@"; do
-            grep -qxF -- "$w" <<<"$got" || fail "completion of $what does not offer '$w': $(echo $got)"
+            grep -qxF -- "$w" <<<"$got" || fail "completion of $what does not offer '$w': $(tr '\n' ' ' <<<"$got")"
         done
     }
     subs=$(subcommands | sort -u)
@@ -302,7 +304,7 @@ $(diff <(echo "$2") <(echo "$3") | sed -n 's/^[<>]/  &/p')
     done
     [[ -n $(offers psim --pin '') && -n $(offers psim --mem '') && -n $(offers psim gen --place '') ]] ||
         fail "completion offers no values for --pin, --mem or gen --place"
-    echo "install: the completion offers $(echo $subs), each command's options, $(models | wc -l) models and file names"
+    echo "install: the completion offers $(paste -sd' ' <<<"$subs"), each command's options, $(models | wc -l) models and file names"
     ;;
 
 *)
