@@ -1,0 +1,104 @@
+# What `cmake --install build --prefix X` installs (docs/install.md):
+#
+#   bin/psim                                   the program
+#   lib/libpsim.a, include/psim/*.h            the library and its API
+#   lib/cmake/psim/psim{Config,ConfigVersion,Targets}.cmake
+#                                              find_package(psim), psim::psim
+#   lib/pkgconfig/psim.pc                      pkg-config --static psim
+#   share/man/man1/psim.1                      the man page
+#   share/bash-completion/completions/psim     the bash completion
+#
+# (lib, include, share: GNUInstallDirs' CMAKE_INSTALL_LIBDIR and the others.)
+# Nothing installed names the build tree or the prefix: the CMake files
+# find the prefix from their own place, psim.pc from ${pcfiledir}, so the
+# installed tree can be moved.  The man page and the completion are written
+# at build time from the built psim's own --help (cmake/psim_docs.py).
+include(CMakePackageConfigHelpers)
+
+set(PSIM_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/psim)
+
+# A sanitizer build's library holds instrumented code, which links only
+# with the sanitizer's runtime: the installed package asks for it (in the
+# build tree add_link_options already does).
+if(PSIM_SANITIZE)
+  target_link_options(psimlib INTERFACE "$<INSTALL_INTERFACE:-fsanitize=${PSIM_SANITIZE}>")
+endif()
+
+install(TARGETS psim RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT Runtime)
+install(TARGETS psimlib EXPORT psimTargets
+        ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT Development)
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/include/psim
+        DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} COMPONENT Development
+        FILES_MATCHING PATTERN "*.h")
+
+# ---- CMake package: find_package(psim CONFIG), target psim::psim -----------
+install(EXPORT psimTargets NAMESPACE psim:: DESTINATION ${PSIM_CMAKE_DIR}
+        COMPONENT Development)
+configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/psimConfig.cmake.in
+                              ${PROJECT_BINARY_DIR}/package/psimConfig.cmake
+                              INSTALL_DESTINATION ${PSIM_CMAKE_DIR})
+# 0.x: a new minor version may change the API
+write_basic_package_version_file(${PROJECT_BINARY_DIR}/package/psimConfigVersion.cmake
+                                 COMPATIBILITY SameMinorVersion)
+install(FILES ${PROJECT_BINARY_DIR}/package/psimConfig.cmake
+              ${PROJECT_BINARY_DIR}/package/psimConfigVersion.cmake
+        DESTINATION ${PSIM_CMAKE_DIR} COMPONENT Development)
+
+# ---- pkg-config: psim.pc ----------------------------------------------------
+# libpsim.a is static: what it links goes to Libs.private (pkg-config
+# --static).  hwloc and jemalloc are named by the flags their own .pc files
+# give for linking their shared libraries (-lhwloc, -ljemalloc), not as
+# Requires.private: with --static that would pull in hwloc's own
+# Libs.private (Debian's names -ludev, whose libudev.so only libudev-dev
+# has), flags for linking hwloc itself statically, which no one asked for.
+# OpenMP by the compiler's flag (-fopenmp: the same compiler family must
+# link, for its OpenMP runtime); in a sanitizer build its runtime too.
+# (CMake's pkg-config call keeps -L of the compiler's own directories:
+# dropped, as pkg-config itself drops them.)
+separate_arguments(PSIM_PC_OPENMP UNIX_COMMAND "${OpenMP_C_FLAGS}")
+set(PSIM_PC_LIBS_PRIVATE ${PSIM_PC_OPENMP} -lm)
+foreach(flag IN LISTS psim_hwloc_LDFLAGS psim_jemalloc_LDFLAGS)
+  string(REGEX REPLACE "^-L" "" dir "${flag}")
+  if(NOT (flag MATCHES "^-L" AND dir IN_LIST CMAKE_C_IMPLICIT_LINK_DIRECTORIES))
+    list(APPEND PSIM_PC_LIBS_PRIVATE "${flag}")
+  endif()
+endforeach()
+if(PSIM_SANITIZE)
+  list(APPEND PSIM_PC_LIBS_PRIVATE -fsanitize=${PSIM_SANITIZE})
+endif()
+list(REMOVE_DUPLICATES PSIM_PC_LIBS_PRIVATE)
+list(JOIN PSIM_PC_LIBS_PRIVATE " " PSIM_PC_LIBS_PRIVATE)
+# prefix, from where psim.pc lies: ${pcfiledir}/../.. for lib/pkgconfig
+set(PSIM_PC_DIR ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
+if(IS_ABSOLUTE "${CMAKE_INSTALL_LIBDIR}" OR IS_ABSOLUTE "${CMAKE_INSTALL_INCLUDEDIR}")
+  message(FATAL_ERROR "psim.pc: CMAKE_INSTALL_LIBDIR and CMAKE_INSTALL_INCLUDEDIR must be "
+                      "relative to the prefix (they are '${CMAKE_INSTALL_LIBDIR}', "
+                      "'${CMAKE_INSTALL_INCLUDEDIR}')")
+endif()
+file(RELATIVE_PATH PSIM_PC_TO_PREFIX /prefix/${PSIM_PC_DIR} /prefix)
+string(REGEX REPLACE "/$" "" PSIM_PC_TO_PREFIX "${PSIM_PC_TO_PREFIX}")
+configure_file(${PROJECT_SOURCE_DIR}/cmake/psim.pc.in ${PROJECT_BINARY_DIR}/package/psim.pc @ONLY)
+install(FILES ${PROJECT_BINARY_DIR}/package/psim.pc DESTINATION ${PSIM_PC_DIR}
+        COMPONENT Development)
+
+# ---- man page and bash completion, from the built psim's --help -------------
+# python3 with its standard library only (a dependency already:
+# scripts/install-deps.sh, tests/stability)
+find_package(Python3 REQUIRED COMPONENTS Interpreter)
+set(PSIM_MAN ${PROJECT_BINARY_DIR}/doc/psim.1)
+set(PSIM_COMPLETION ${PROJECT_BINARY_DIR}/doc/psim.bash)
+add_custom_command(
+  OUTPUT ${PSIM_MAN} ${PSIM_COMPLETION}
+  COMMAND Python3::Interpreter ${PROJECT_SOURCE_DIR}/cmake/psim_docs.py
+          --psim $<TARGET_FILE:psim> --version ${PROJECT_VERSION}
+          --description "${PROJECT_DESCRIPTION}"
+          --man ${PSIM_MAN}
+          --completion-template ${PROJECT_SOURCE_DIR}/cmake/psim-completion.bash.in
+          --completion ${PSIM_COMPLETION}
+  DEPENDS psim ${PROJECT_SOURCE_DIR}/cmake/psim_docs.py
+          ${PROJECT_SOURCE_DIR}/cmake/psim-completion.bash.in
+  COMMENT "psim.1 and the bash completion from psim --help" VERBATIM)
+add_custom_target(psim_docs ALL DEPENDS ${PSIM_MAN} ${PSIM_COMPLETION})
+install(FILES ${PSIM_MAN} DESTINATION ${CMAKE_INSTALL_MANDIR}/man1 COMPONENT Runtime)
+install(FILES ${PSIM_COMPLETION} DESTINATION ${CMAKE_INSTALL_DATADIR}/bash-completion/completions
+        RENAME psim COMPONENT Runtime)

@@ -1,0 +1,313 @@
+#!/usr/bin/env bash
+# The installed package (docs/install.md), run by ctest as install.WHAT:
+#   tree                cmake --install the build tree into a staging prefix;
+#                       every file is there, none of the text files names the
+#                       staging prefix or the build or source tree; then the
+#                       prefix is moved to PSIM_INSTALL_PREFIX (the fixture of
+#                       the others: the package must work where it was moved)
+#   version             the installed psim runs: --version, gen, a short run
+#   cmake_consumer      tests/install/consumer built with find_package(psim)
+#                       and psim::psim, run: its final state is the installed
+#                       psim's; a version the package does not satisfy fails
+#   pkgconfig_consumer  the same program built with pkg-config --static psim
+#   man                 share/man/man1/psim.1 names every long option of
+#                       every --help, every subcommand and model; it and the
+#                       completion are what cmake/psim_docs.py makes from the
+#                       installed psim's help, byte for byte
+#   completion          the bash completion, sourced, offers the subcommands,
+#                       each command's options (exactly its --help's), the
+#                       models, the model options, the values of --pin,
+#                       --mem and --place, and file names
+# ctest gives the build's settings in PSIM_INSTALL_* (tests/CMakeLists.txt).
+# usage: install.sh WHAT
+set -euo pipefail
+what=${1:?usage: install.sh tree|version|cmake_consumer|pkgconfig_consumer|man|completion}
+here=$(cd "$(dirname "$0")" && pwd)
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+
+for v in BUILD SOURCE PREFIX VERSION DESCRIPTION CC CMAKE GENERATOR MAKE PKG_CONFIG PYTHON \
+         ALLOCATOR BINDIR LIBDIR INCLUDEDIR MANDIR DATADIR; do
+    var=PSIM_INSTALL_$v
+    [[ -n ${!var:-} ]] || { echo "FAIL: $var is not set (ctest sets it: tests/CMakeLists.txt)" >&2; exit 1; }
+done
+prefix=$PSIM_INSTALL_PREFIX
+man=$prefix/$PSIM_INSTALL_MANDIR/man1/psim.1
+completion=$prefix/$PSIM_INSTALL_DATADIR/bash-completion/completions/psim
+
+if [[ $what == tree ]]; then
+    stage=$prefix.stage
+    rm -rf "$stage" "$prefix"
+    if ! "$PSIM_INSTALL_CMAKE" --install "$PSIM_INSTALL_BUILD" --prefix "$stage" >"$tmp/install.log" 2>&1; then
+        sed 's/^/  | /' "$tmp/install.log" >&2
+        echo "FAIL: cmake --install $PSIM_INSTALL_BUILD --prefix $stage failed" >&2
+        exit 1
+    fi
+    missing=()
+    for f in "$PSIM_INSTALL_BINDIR/psim" "$PSIM_INSTALL_LIBDIR/libpsim.a" \
+             "$PSIM_INSTALL_LIBDIR/cmake/psim/psimConfig.cmake" \
+             "$PSIM_INSTALL_LIBDIR/cmake/psim/psimConfigVersion.cmake" \
+             "$PSIM_INSTALL_LIBDIR/cmake/psim/psimTargets.cmake" \
+             "$PSIM_INSTALL_LIBDIR/pkgconfig/psim.pc" \
+             "$PSIM_INSTALL_MANDIR/man1/psim.1" \
+             "$PSIM_INSTALL_DATADIR/bash-completion/completions/psim"; do
+        [[ -s $stage/$f ]] || missing+=("$f")
+    done
+    # every public header, and only those
+    for h in "$PSIM_INSTALL_SOURCE"/include/psim/*.h; do
+        cmp -s "$h" "$stage/$PSIM_INSTALL_INCLUDEDIR/psim/${h##*/}" ||
+            missing+=("$PSIM_INSTALL_INCLUDEDIR/psim/${h##*/} (as include/psim/${h##*/})")
+    done
+    if ((${#missing[@]})); then
+        echo "FAIL: cmake --install did not install:" >&2
+        printf '  %s\n' "${missing[@]}" >&2
+        exit 1
+    fi
+    [[ -x $stage/$PSIM_INSTALL_BINDIR/psim ]] || { echo "FAIL: the installed psim is not executable" >&2; exit 1; }
+    extra=$(cd "$stage/$PSIM_INSTALL_INCLUDEDIR" && find . -type f ! -name '*.h' | head -5)
+    [[ -z $extra ]] || { echo "FAIL: installed under include/ besides headers: $extra" >&2; exit 1; }
+    # The text files hold no absolute path of the build: the package can move.
+    texts=("$stage/$PSIM_INSTALL_LIBDIR/cmake/psim"/*.cmake "$stage/$PSIM_INSTALL_LIBDIR/pkgconfig/psim.pc"
+           "$stage/$PSIM_INSTALL_MANDIR/man1/psim.1"
+           "$stage/$PSIM_INSTALL_DATADIR/bash-completion/completions/psim")
+    for p in "$stage" "$PSIM_INSTALL_BUILD" "$PSIM_INSTALL_SOURCE"; do
+        if hits=$(grep -lF -- "$p" "${texts[@]}"); then
+            echo "FAIL: installed files name $p (they must not, to be relocatable):" >&2
+            printf '  %s\n' "$hits" >&2
+            exit 1
+        fi
+    done
+    mv "$stage" "$prefix"
+    echo "install: $(find "$prefix" -type f | wc -l) files installed, moved to $prefix"
+    exit 0
+fi
+
+[[ -d $prefix ]] || { echo "FAIL: no installed tree at $prefix (the fixture install.tree makes it)" >&2; exit 1; }
+# the e2e helpers (fail, run_ok, same_file, gen) with the installed psim
+# shellcheck source-path=SCRIPTDIR source=../e2e/lib.sh
+source "$here/../e2e/lib.sh" "$prefix/$PSIM_INSTALL_BINDIR/psim"
+version=$PSIM_INSTALL_VERSION
+help_texts=("--help" "gen --help" "plan --help" "topo --help" "models --help")
+
+# A scene and the installed psim's final state of it, for the consumers.
+scene_and_reference()
+{
+    gen "$tmp/scene.in" -n 600 --density 0.4 --steps 5 --seed 11
+    run_ok "$PSIM" -q --threads 2 --final "$tmp/ref.txt" "$tmp/scene.in"
+    [[ -s $tmp/ref.txt ]] || fail "the installed psim wrote no --final file"
+}
+
+# run_consumer BIN HOW: the consumer's final state must be the installed psim's.
+run_consumer()
+{
+    local bin=$1 how=$2
+    [[ -x $bin ]] || fail "$how: no consumer program was built"
+    run_ok "$bin" "$tmp/scene.in" "$tmp/$how.txt" "$version" "$PSIM_INSTALL_ALLOCATOR"
+    same_file "$tmp/$how.txt" "$tmp/ref.txt" "$how: the consumer's final state and psim --final's"
+}
+
+# The long options a help text lists: "  -m, --model NAME", "      --steps S",
+# and those its first usage line names ("[--pin POLICY]").
+help_options()
+{
+    local text
+    # shellcheck disable=SC2086 # "gen --help": two words
+    text=$("$PSIM" $1) || fail "psim $1 failed"
+    {
+        grep -oE '^ {1,7}(-[A-Za-z0-9], )?--[A-Za-z0-9][A-Za-z0-9-]*' <<<"$text" |
+            grep -oE -- '--[A-Za-z0-9][A-Za-z0-9-]*$' || true
+        head -1 <<<"$text" | grep -oE '\[--[A-Za-z0-9][A-Za-z0-9-]*' | tr -d '[' || true
+    } | sort -u
+}
+
+# The subcommands psim --help names in its usage lines ("psim gen [OPTIONS]").
+subcommands()
+{
+    "$PSIM" --help | sed -n '1,/^$/p' | sed -nE 's/^(usage:)? *psim ([a-z]+)( .*)?$/\2/p'
+}
+
+models()
+{
+    "$PSIM" models | sed -nE 's/^([a-z0-9_-]+) .*/\1/p'
+}
+
+case $what in
+version)
+    out=$("$PSIM" --version) || fail "psim --version failed"
+    [[ $(head -1 <<<"$out") == "psim $version "* ]] ||
+        fail "psim --version does not start with 'psim $version': $(head -1 <<<"$out")"
+    grep -q "allocator $PSIM_INSTALL_ALLOCATOR" <<<"$out" ||
+        fail "psim --version does not name the allocator $PSIM_INSTALL_ALLOCATOR: $out"
+    gen "$tmp/s.in" -n 300 --density 0.3 --steps 3
+    run_ok "$PSIM" -q --threads 2 --out "$tmp/out.txt" "$tmp/s.in"
+    (($(wc -l <"$tmp/out.txt") == 300)) || fail "the installed psim's --out has not 300 lines"
+    echo "install: $(head -1 <<<"$out") runs"
+    ;;
+
+cmake_consumer)
+    scene_and_reference
+    args=(-G "$PSIM_INSTALL_GENERATOR" -DCMAKE_MAKE_PROGRAM="$PSIM_INSTALL_MAKE"
+          -DCMAKE_C_COMPILER="$PSIM_INSTALL_CC" -DCMAKE_PREFIX_PATH="$prefix"
+          -DCMAKE_FIND_PACKAGE_NO_PACKAGE_REGISTRY=ON)
+    if ! "$PSIM_INSTALL_CMAKE" -S "$here/consumer" -B "$tmp/b" "${args[@]}" \
+            -DPSIM_WANT_VERSION="$version" >"$tmp/configure.log" 2>&1; then
+        sed 's/^/  | /' "$tmp/configure.log" >&2
+        fail "the consumer's find_package(psim $version CONFIG REQUIRED) failed"
+    fi
+    want=$prefix/$PSIM_INSTALL_LIBDIR/cmake/psim
+    [[ $(cat "$tmp/b/psim_dir.txt") -ef $want ]] ||
+        fail "find_package(psim) found $(cat "$tmp/b/psim_dir.txt"), not $want"
+    if ! "$PSIM_INSTALL_CMAKE" --build "$tmp/b" >"$tmp/build.log" 2>&1; then
+        sed 's/^/  | /' "$tmp/build.log" >&2
+        fail "the consumer linking psim::psim did not build"
+    fi
+    run_consumer "$tmp/b/consumer" cmake
+    # a version this one does not satisfy: 0.x, a later minor version
+    IFS=. read -r major minor _ <<<"$version"
+    newer=$major.$((minor + 1))
+    if "$PSIM_INSTALL_CMAKE" -S "$here/consumer" -B "$tmp/b2" "${args[@]}" \
+            -DPSIM_WANT_VERSION="$newer" >"$tmp/configure2.log" 2>&1; then
+        fail "find_package(psim $newer) accepted psim $version"
+    fi
+    grep -q "psimConfigVersion.cmake\|version: $version" "$tmp/configure2.log" ||
+        fail "find_package(psim $newer) failed, but not for the version: $(cat "$tmp/configure2.log")"
+    echo "install: find_package(psim $version) and psim::psim: the consumer's final state is psim's"
+    ;;
+
+pkgconfig_consumer)
+    scene_and_reference
+    export PKG_CONFIG_PATH=$prefix/$PSIM_INSTALL_LIBDIR/pkgconfig
+    pc=$PSIM_INSTALL_PKG_CONFIG
+    command -v "$pc" >/dev/null || fail "no pkg-config ($pc; a build dependency, scripts/install-deps.sh)"
+    run_ok "$pc" --exists psim
+    got=$("$pc" --modversion psim)
+    [[ $got == "$version" ]] || fail "pkg-config --modversion psim is '$got', not $version"
+    got=$("$pc" --variable=prefix psim)
+    [[ $got -ef $prefix ]] || fail "psim.pc's prefix is $got, not $prefix"
+    flags=$("$pc" --cflags --libs --static psim) || fail "pkg-config --cflags --libs --static psim failed"
+    [[ " $flags " == *" -lpsim "* && " $flags " == *" -lm "* ]] || fail "pkg-config flags lack -lpsim or -lm: $flags"
+    # shellcheck disable=SC2086 # the flags are words
+    if ! "$PSIM_INSTALL_CC" -std=c11 -Wall -Wextra -Wpedantic -Werror "$here/consumer/consumer.c" \
+            $flags -o "$tmp/consumer" >"$tmp/cc.log" 2>&1; then
+        sed 's/^/  | /' "$tmp/cc.log" >&2
+        fail "cc consumer.c \$(pkg-config --cflags --libs --static psim) failed; flags: $flags"
+    fi
+    run_consumer "$tmp/consumer" pkgconfig
+    echo "install: cc consumer.c $flags: the consumer's final state is psim's"
+    ;;
+
+man)
+    [[ -s $man ]] || fail "no man page at $man"
+    grep -m1 '^\.TH' "$man" | grep -q "^\.TH PSIM 1 .*\"psim $version\"" ||
+        fail "the man page's .TH line does not name psim $version: $(grep -m1 '^\.TH' "$man")"
+    # the page as text: roff's \- \fB \fI \fR \& \e undone
+    sed -e 's/\\-/-/g' -e 's/\\f[BIRP]//g' -e 's/\\&//g' -e 's/\\e/\\/g' "$man" >"$tmp/man.txt"
+    missing=()
+    for h in "${help_texts[@]}"; do
+        # shellcheck disable=SC2086
+        for o in $("$PSIM" $h | grep -oE -- '--[A-Za-z0-9][A-Za-z0-9-]*' | sort -u); do
+            grep -qE -- "(^|[^A-Za-z0-9-])$o([^A-Za-z0-9-]|$)" "$tmp/man.txt" ||
+                missing+=("$o (psim $h)")
+        done
+    done
+    for c in $(subcommands); do
+        grep -q "^\.SS \"psim $c" "$tmp/man.txt" || missing+=("a section for psim $c")
+    done
+    for m in $(models); do
+        grep -qx "$m" "$tmp/man.txt" || missing+=("the model $m")
+    done
+    if ((${#missing[@]})); then
+        fail "the man page $man lacks: ${missing[*]}"
+    fi
+    # the page the installed program's help makes, byte for byte
+    run_ok "$PSIM_INSTALL_PYTHON" "$PSIM_INSTALL_SOURCE/cmake/psim_docs.py" --psim "$PSIM" \
+        --version "$version" --description "$PSIM_INSTALL_DESCRIPTION" --man "$tmp/psim.1" \
+        --completion-template "$PSIM_INSTALL_SOURCE/cmake/psim-completion.bash.in" \
+        --completion "$tmp/psim.bash"
+    same_file "$tmp/psim.1" "$man" "the installed man page and the one the installed psim's help makes"
+    same_file "$tmp/psim.bash" "$completion" "the installed completion and the one the installed psim's help makes"
+    echo "install: the man page names every option of ${#help_texts[@]} help texts, $(subcommands | wc -l) subcommands, $(models | wc -l) models"
+    ;;
+
+completion)
+    [[ -s $completion ]] || fail "no bash completion at $completion"
+    # shellcheck disable=SC1090
+    source "$completion"
+    complete -p psim | grep -q -- "-F _psim" || fail "sourcing $completion does not register _psim for psim"
+    mkdir "$tmp/cwd" "$tmp/cwd/subdir"
+    : >"$tmp/cwd/scene.in"
+    cd "$tmp/cwd"
+    # offers WORD...: what _psim offers for the command line WORD... (the
+    # last word is the one completed), sorted, one a line
+    offers()
+    {
+        COMP_WORDS=("$@")
+        COMP_CWORD=$(($# - 1))
+        COMP_LINE="$*"
+        COMP_POINT=${#COMP_LINE}
+        COMPREPLY=()
+        _psim psim "${COMP_WORDS[COMP_CWORD]}" "${COMP_WORDS[COMP_CWORD - 1]}"
+        ((${#COMPREPLY[@]} == 0)) || printf '%s\n' "${COMPREPLY[@]}" | sort -u
+    }
+    # same WHAT EXPECTED GOT: two sorted lists are equal
+    same()
+    {
+        [[ $2 == "$3" ]] || fail "completion of $1: expected
+$(diff <(echo "$2") <(echo "$3") | sed -n 's/^[<>]/  &/p')
+  (< expected, > offered)"
+    }
+    # has WHAT GOT WORD...: each WORD is in the list
+    has()
+    {
+        local what=$1 got=$2 w
+        shift 2
+        for w in "$@"; do
+            grep -qxF -- "$w" <<<"$got" || fail "completion of $what does not offer '$w': $(tr '\n' ' ' <<<"$got")"
+        done
+    }
+    subs=$(subcommands | sort -u)
+    [[ -n $subs ]] || fail "psim --help names no subcommands"
+    # shellcheck disable=SC2086
+    has "'psim '" "$(offers psim '')" $subs scene.in subdir
+    got=$(offers psim g)
+    has "'psim g'" "$got" gen
+    ! grep -qx plan <<<"$got" || fail "completion of 'psim g' offers plan"
+    has "'psim sc' (the scene)" "$(offers psim sc)" scene.in
+    has "'psim -q sc' (the scene)" "$(offers psim -q sc)" scene.in
+    # each command's long options: exactly its help's
+    same "'psim --'" "$(help_options --help)" "$(offers psim --)"
+    same "'psim run --'" "$(help_options --help)" "$(offers psim run --)"
+    for c in $subs; do
+        same "'psim $c --'" "$(help_options "$c --help")" "$(offers psim "$c" --)"
+    done
+    # values
+    same "'psim --model '" "$(models | sort -u)" "$(offers psim --model '')"
+    same "'psim --model='" "$(models | sort -u)" "$(offers psim --model =)"
+    same "'psim -m c'" "$(models | grep '^c' | sort -u)" "$(offers psim -m c)"
+    same "'psim --option '" "$("$PSIM" models | grep -oE -- '--option [a-z0-9_]+=' | cut -c10- | sort -u)" \
+        "$(offers psim --option '')"
+    has "'psim --out sc'" "$(offers psim --out sc)" scene.in
+    has "'psim --final=sc'" "$(offers psim --final = sc)" scene.in
+    has "'psim gen -o sc'" "$(offers psim gen -o sc)" scene.in
+    has "'psim topo --topology sc'" "$(offers psim topo --topology sc)" scene.in
+    [[ -z $(offers psim --steps '') ]] || fail "completion of 'psim --steps ' offers words: $(offers psim --steps '')"
+    [[ -z $(offers psim models '') ]] || fail "completion of 'psim models ' offers words"
+    # the values the completion names itself must be the help's
+    run_help=$("$PSIM" --help) gen_help=$("$PSIM" gen --help)
+    for v in $(offers psim --pin ''); do
+        grep -qE "(^|[ ,])${v}[K,. )]" <<<"$run_help" || fail "completion offers --pin $v, which psim --help does not name"
+    done
+    for v in $(offers psim --mem ''); do
+        grep -qw "$v" <<<"$run_help" || fail "completion offers --mem $v, which psim --help does not name"
+    done
+    for v in $(offers psim gen --place ''); do
+        grep -qw "$v" <<<"$gen_help" || fail "completion offers gen --place $v, which psim gen --help does not name"
+    done
+    [[ -n $(offers psim --pin '') && -n $(offers psim --mem '') && -n $(offers psim gen --place '') ]] ||
+        fail "completion offers no values for --pin, --mem or gen --place"
+    echo "install: the completion offers $(paste -sd' ' <<<"$subs"), each command's options, $(models | wc -l) models and file names"
+    ;;
+
+*)
+    fail "unknown check '$what'"
+    ;;
+esac
