@@ -223,6 +223,27 @@ const psim_thread_stats *psim_get_thread_stats(const psim_sim *s, int *threads);
 void psim_add_output_time(psim_sim *s, double seconds);
 void psim_destroy(psim_sim *s);
 
+/* ---- thermodynamic output (--thermo) -------------------------------------- */
+
+/* The state's totals, in id order (unit masses): kinetic energy
+ * (1/2) sum (vx^2 + vy^2), momentum (sum vx, sum vy), and the pairs of
+ * disks whose centres are closer than 2r. */
+typedef struct psim_thermo {
+    long step;
+    double ke, px, py;
+    long overlaps;
+} psim_thermo;
+/* 0, or -1 without memory. */
+int psim_thermo_measure(const psim_sim *s, psim_thermo *t);
+/* The model's thermo columns (names of its counters, shown as the change
+ * since the previous row): the k-th, or NULL after the last. */
+#define PSIM_THERMO_MAX 4
+const char *psim_thermo_column(const psim_sim *s, int k);
+/* Value of the model's measured quantity called name (psim_stats' values;
+ * "virial": the sum over collisions of r_ab . dp_a, unit masses, where the
+ * model keeps one); NAN if it has none. */
+double psim_value(const psim_sim *s, const char *name);
+
 /* ---- output -------------------------------------------------------------- */
 
 /* Room for any double: 309 integer digits, sign, point, 30 decimals. */

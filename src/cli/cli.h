@@ -3,6 +3,9 @@
 #define PSIM_CLI_H
 #include <stdio.h>
 
+#include <stdint.h>
+
+#include "psim/psim.h"
 #include "psim/topology.h"
 
 int cli_run(int argc, char **argv);   /* psim [OPTIONS] [SCENE [THREADS]] */
@@ -60,16 +63,38 @@ int outfile_commit_all(outfile *const *list, int n);
 int outfile_commit(outfile *o);
 void outfile_abort(outfile *o);
 
-/* A progress bar on stderr, shown only on a terminal and after ~1 s. */
+/* Progress on stderr after ~1 s: a bar on a terminal; elsewhere (batch
+ * jobs, logs) a line every PROGRESS_LINE_S seconds. */
+#define PROGRESS_LINE_S 10.0
 typedef struct progress {
-    int enabled, shown;
-    double start, last;
+    int enabled, tty, shown;
+    double start, last, every;
     long total;
 } progress;
 
 void progress_init(progress *p, long total, int quiet);
 void progress_update(progress *p, long done);
 void progress_done(progress *p);
+
+/* --thermo N and --thermo-file (thermo.c): rows at the start, every
+ * `every` steps and after the last step; the table to `table` (NULL: none),
+ * CSV to `csv` (NULL: none). */
+typedef struct cli_thermo {
+    long every;             /* 0: no rows */
+    FILE *table, *csv;
+    double area;            /* the box's */
+    int ncols, pressure;
+    const char *col[PSIM_THERMO_MAX];
+    uint64_t last[PSIM_THERMO_MAX];
+    double last_virial;
+    long last_step;
+} cli_thermo;
+
+void thermo_init(cli_thermo *t, long every, double L);
+/* The header and the row of the state before the first step; then after
+ * step k of steps.  0, or -1 without memory. */
+int thermo_start(cli_thermo *t, psim_sim *s, FILE *table, FILE *csv);
+int thermo_step(cli_thermo *t, psim_sim *s, long k, long steps);
 
 /* Pinning options shared by the run and plan commands. */
 enum { CLI_OPT_PIN = 1000, CLI_OPT_TOPOLOGY, CLI_OPT_MEM, CLI_OPT_DRY_RUN };

@@ -1,6 +1,7 @@
 /* psim [OPTIONS] [SCENE [THREADS]]: run a scene. */
 #include <errno.h>
 #include <getopt.h>
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -13,8 +14,9 @@
 #include "../engine/timer.h"
 
 typedef struct run_opts {
-    const char *scene, *out, *trace, *final, *stats, *model;
+    const char *scene, *out, *trace, *final, *stats, *model, *thermo_file;
     long threads, steps, digits, tile, substeps;
+    long thermo;            /* --thermo N (0: none; LONG_MAX: first and last) */
     long n;                 /* -n: the model's own initial state (-1: none) */
     unsigned long long seed;
     const char *s_text;     /* -s: the steps, or with -n the seed (CS267) */
@@ -77,6 +79,13 @@ static void run_usage(FILE *f)
 "      --check       validate every step as the course's validator does\n"
 "      --stats FILE  write run statistics (phase times, counts, per-thread\n"
 "                    profile, placement) as JSON\n"
+"      --thermo N    every N steps (and at the start and end) print the\n"
+"                    state's kinetic energy, momentum, the model's collision\n"
+"                    counts since the last row, the pressure from the\n"
+"                    collision virial (event model) and the overlapping pairs,\n"
+"                    as a table on stderr\n"
+"      --thermo-file FILE  the same rows as CSV (without --thermo: the first\n"
+"                    and last step)\n"
 "      --report      print the per-thread, per-phase profile with the load\n"
 "                    imbalance of each phase\n"
 "      --tile N      cells per tile side, a power of two (default: automatic)\n"
@@ -212,6 +221,8 @@ static int parse_run(int argc, char **argv, run_opts *o)
         {"report", no_argument, 0, 'R'},
         {"model", required_argument, 0, 'm'},
         {"substeps", required_argument, 0, 'K'},
+        {"thermo", required_argument, 0, 'H'},
+        {"thermo-file", required_argument, 0, 'Y'},
         {0, 0, 0, 0}};
     memset(o, 0, sizeof *o);
     o->steps = -1;
@@ -244,6 +255,8 @@ static int parse_run(int argc, char **argv, run_opts *o)
         case 'd': if (cli_long("--digits", optarg, 0, PSIM_DIGITS_MAX, &o->digits)) return 2; break;
         case 'c': o->check = 1; break;
         case 'S': o->stats = optarg; break;
+        case 'H': if (cli_long("--thermo", optarg, 1, PSIM_MAX_STEPS, &o->thermo)) return 2; break;
+        case 'Y': o->thermo_file = optarg; break;
         case 'L':
             if (cli_long("--tile", optarg, 1, 1 << 20, &o->tile)) return 2;
             if (o->tile & (o->tile - 1)) {
@@ -265,6 +278,8 @@ static int parse_run(int argc, char **argv, run_opts *o)
     }
     if (resolve_s(o))
         return 2;
+    if (o->thermo_file && !o->thermo)
+        o->thermo = LONG_MAX;   /* as LAMMPS' thermo 0: the first and last steps */
     if (o->quiet && o->report) {
         fprintf(stderr, "psim: -q prints nothing and --report prints the profile: give one of them\n");
         return 2;
@@ -295,12 +310,12 @@ static int parse_run(int argc, char **argv, run_opts *o)
         }
         o->threads = t;
     }
-    const char *files[4] = {o->out, o->trace, o->final, o->stats};
-    for (int a = 0; a < 4; a++) {
-        for (int b = a + 1; b < 4; b++)
+    const char *files[5] = {o->out, o->trace, o->final, o->stats, o->thermo_file};
+    for (int a = 0; a < 5; a++) {
+        for (int b = a + 1; b < 5; b++)
             if (files[a] && files[b] && same_file(files[a], files[b]) && !is_stream(files[a])) {
                 fprintf(stderr, "psim: '%s' is named for two outputs (--out, --trace, --final, "
-                                "--stats)\n", files[a]);
+                                "--stats, --thermo-file)\n", files[a]);
                 return 2;
             }
         if (files[a] && o->scene && !is_stream(files[a]) && strcmp(o->scene, "-") &&
@@ -336,7 +351,8 @@ static int load_scene(run_opts *o, psim_scene *sc, psim_error *err)
 }
 
 typedef struct run_state {
-    outfile out, trace, final, stats;
+    outfile out, trace, final, stats, thermo;
+    cli_thermo th;
     psim_output_style style;
     int print;          /* the model's output holds every step */
 } run_state;
@@ -395,6 +411,8 @@ static int open_outputs(const run_opts *o, run_state *rs)
         return -1;
     if (o->stats && outfile_open(&rs->stats, o->stats))
         return -1;
+    if (o->thermo_file && outfile_open(&rs->thermo, o->thermo_file))
+        return -1;
     return 0;
 }
 
@@ -404,6 +422,7 @@ static void abort_outputs(run_state *rs)
     outfile_abort(&rs->trace);
     outfile_abort(&rs->final);
     outfile_abort(&rs->stats);
+    outfile_abort(&rs->thermo);
 }
 
 /* Whether the model's output holds the state after step k of steps (the
@@ -478,8 +497,13 @@ static int simulate(const run_opts *o, psim_sim *s, const psim_scene *sc,
                     const psim_config *cfg, long steps, run_state *rs, psim_error *err)
 {
     progress pb;
-    progress_init(&pb, steps, o->quiet);
+    /* a thermo table shows the progress itself */
+    progress_init(&pb, steps, o->quiet || (o->thermo && !o->quiet));
     int rc = 0;
+    if (thermo_start(&rs->th, s, o->quiet ? NULL : stderr, rs->thermo.f)) {
+        psim_error_set(err, "out of memory for --thermo");
+        rc = -1;
+    }
     if (rs->out.f && (psim_write_header(s, rs->out.f) ||
                       (rs->style.initial && write_out(s, rs->out.f, 0, 0, o->digits)))) {
         set_write_failed(err, rs->out.name);
@@ -516,7 +540,10 @@ static int simulate(const run_opts *o, psim_sim *s, const psim_scene *sc,
         }
         if (write_step(o, s, k, steps, rs, err))
             rc = -1;
-        else
+        else if (thermo_step(&rs->th, s, k, steps)) {
+            psim_error_set(err, "out of memory for --thermo");
+            rc = -1;
+        } else
             progress_update(&pb, k);
     }
     progress_done(&pb); /* also on failure: the error line starts clean */
@@ -577,6 +604,7 @@ int cli_run(int argc, char **argv)
     }
     rs.style = psim_get_output_style(s);
     rs.print = rs.style.every_step && sc.print;
+    thermo_init(&rs.th, o.thermo, sc.L);
     if (open_outputs(&o, &rs))
         goto done;
     double t0 = psim_now();
@@ -611,10 +639,10 @@ int cli_run(int argc, char **argv)
     }
     /* the summary goes to stderr when an output is on stdout */
     FILE *info = (on_stdout(&rs.out) || on_stdout(&rs.trace) || on_stdout(&rs.final) ||
-                  on_stdout(&rs.stats))
+                  on_stdout(&rs.stats) || on_stdout(&rs.thermo))
                      ? stderr : stdout;
-    outfile *outs[4] = {&rs.out, &rs.trace, &rs.final, &rs.stats};
-    if (outfile_commit_all(outs, 4))
+    outfile *outs[5] = {&rs.out, &rs.trace, &rs.final, &rs.stats, &rs.thermo};
+    if (outfile_commit_all(outs, 5))
         goto done;
     if (!o.quiet) {
         psim_print_source_summary(info, s, loop_s);

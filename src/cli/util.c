@@ -291,7 +291,14 @@ void outfile_abort(outfile *o)
 void progress_init(progress *p, long total, int quiet)
 {
     memset(p, 0, sizeof *p);
-    p->enabled = !quiet && isatty(STDERR_FILENO);
+    p->tty = isatty(STDERR_FILENO);
+    p->enabled = !quiet;
+    /* PSIM_PROGRESS_S=T: start after T s and show a line every T s, on
+     * a terminal too (tests) */
+    const char *ev = getenv("PSIM_PROGRESS_S");
+    p->every = ev ? atof(ev) : -1;
+    if (p->every >= 0)
+        p->tty = 0;
     p->total = total;
     p->start = p->last = psim_now();
 }
@@ -301,12 +308,20 @@ void progress_update(progress *p, long done)
     if (!p->enabled)
         return;
     double now = psim_now();
-    if (now - p->start < 1.0 || now - p->last < 0.1)
+    double delay = p->every >= 0 ? p->every : 1.0,
+           gap = p->every >= 0 ? p->every : p->tty ? 0.1 : PROGRESS_LINE_S;
+    if (now - p->start < delay || now - p->last < gap)
         return;
     p->last = now;
+    double eta = done ? (now - p->start) * (double)(p->total - done) / (double)done : 0;
+    if (!p->tty) {
+        fprintf(stderr, "psim: step %ld of %ld (%.0f%%), %.0f s so far, about %.0f s left\n",
+                done, p->total, p->total ? 100.0 * (double)done / (double)p->total : 100.0,
+                now - p->start, eta);
+        return;
+    }
     p->shown = 1;
     int width = 30, fill = p->total ? (int)(width * done / p->total) : width;
-    double eta = done ? (now - p->start) * (double)(p->total - done) / (double)done : 0;
     fprintf(stderr, "\r[%.*s%*s] step %ld/%ld, %.1f s left ", fill,
             "##############################", width - fill, "", done, p->total, eta);
     fflush(stderr);

@@ -49,6 +49,14 @@ uint64_t psim_counter(const psim_sim *e, const char *name)
     return k < 0 ? 0 : e->stats.counter[k];
 }
 
+double psim_value(const psim_sim *e, const char *name)
+{
+    for (int k = 0; k < e->stats.nvalues; k++)
+        if (strcmp(e->stats.value_name[k], name) == 0)
+            return e->stats.value[k];
+    return NAN;
+}
+
 const char *psim_sim_model(const psim_sim *e) { return e->model->name; }
 
 /* Phase and counter names: the engine's, then the model's. */

@@ -47,6 +47,9 @@ typedef struct psim_model {
     const char *phases[PSIM_MODEL_PHASES + 1];    /* its own phases, NULL-terminated */
     const char *counters[PSIM_COUNTERS_MAX + 1];  /* logged quantities, NULL-terminated */
     const char *values[PSIM_VALUES_MAX + 1];      /* measured ones (double), likewise */
+    /* --thermo columns: counters, by name (shown as the change since the
+     * last row), NULL-terminated */
+    const char *thermo[PSIM_THERMO_MAX + 1];
     psim_output_style output;                     /* how its source prints */
     int output_digits;                            /* default decimals; -1: shortest */
     psim_model_option options[PSIM_MODEL_OPTIONS + 1]; /* name NULL ends them */

@@ -262,6 +262,7 @@ const psim_model psim_model_ccd = {
     .name = "ccd",
     .summary = "CS3210 AY2019/20: time-of-impact collisions, one per disk per step",
     .phases = {"detect", "order", "accept", NULL},
+    .thermo = {"pair_collisions", "wall_collisions", NULL},
     .counters = {"pair_tests", "pair_candidates", "wall_candidates", "pair_collisions",
                  "wall_collisions", "accept_rounds", "tasks", "regrids", NULL},
     .output = {.to_stdout = 1, .initial = 1, .every_step = 1, .final = 1},

@@ -190,6 +190,7 @@ const psim_model psim_model_discrete = {
     .name = "discrete",
     .summary = "CS3210 AY2024/25: move every disk, then resolve collisions to a fixpoint",
     .phases = {"contacts", "resolve", NULL},
+    .thermo = {"pair_resolutions", "wall_resolutions", NULL},
     .counters = {"contacts", "rounds", "max_rounds", "pair_checks", "pair_resolutions",
                  "wall_resolutions", "tasks", "max_step_resolutions", NULL},
     .options = {{"settle", "resolutions a step may take per disk before the run stops "

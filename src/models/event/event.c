@@ -246,6 +246,7 @@ const psim_model psim_model_event = {
     .name = "event",
     .summary = "exact event-driven hard disks: the truth for accuracy reports",
     .phases = {"events", "sync", NULL},
+    .thermo = {"collisions", "wall_hits", NULL},
     .counters = {"collisions", "wall_hits", "cell_crossings", "stale_events", "predictions",
                  NULL},
     .values = {"time", "kinetic0", "kinetic", "virial", "wall_impulse", NULL},

@@ -218,6 +218,7 @@ const psim_model psim_model_force = {
     .name = "force",
     .summary = "Berkeley CS267 HW2: short-range repulsion within a cutoff, O(n)",
     .phases = {"nlist", "force", "integrate", NULL},
+    .thermo = {"interactions", NULL},
     .counters = {"pair_tests", "interactions", "rebuilds", "list_entries", "tasks",
                  "sorted_sums", NULL},
     .output = {.period = CS267_SAVEFREQ},

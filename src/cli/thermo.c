@@ -1,0 +1,125 @@
+/* --thermo N: the state's totals every N steps, as LAMMPS' thermo output
+ * and HOOMD's loggers: a table on stderr and, with --thermo-file, CSV. */
+#include <math.h>
+#include <string.h>
+
+#include "cli.h"
+#include "../engine/timer.h"
+
+void thermo_init(cli_thermo *t, long every, double L)
+{
+    memset(t, 0, sizeof *t);
+    t->every = every;
+    t->area = L * L;
+}
+
+/* The columns of a row: the engine's totals, the model's counters since
+ * the last row, the pressure where the model keeps a collision virial. */
+static void header(cli_thermo *t, const psim_sim *s)
+{
+    static const char *const base[] = {"step", "ke", "px", "py"};
+    for (t->ncols = 0; t->ncols < PSIM_THERMO_MAX && psim_thermo_column(s, t->ncols); t->ncols++)
+        t->col[t->ncols] = psim_thermo_column(s, t->ncols);
+    t->pressure = !isnan(psim_value(s, "virial"));
+    for (int k = 0; k < 4; k++) {
+        if (t->table)
+            fprintf(t->table, k ? " %14s" : "%10s", base[k]);
+        if (t->csv)
+            fprintf(t->csv, k ? ",%s" : "%s", base[k]);
+    }
+    for (int k = 0; k < t->ncols; k++) {
+        if (t->table)
+            fprintf(t->table, " %16s", t->col[k]);
+        if (t->csv)
+            fprintf(t->csv, ",%s", t->col[k]);
+    }
+    if (t->pressure) {
+        if (t->table)
+            fprintf(t->table, " %14s", "pressure");
+        if (t->csv)
+            fputs(",pressure", t->csv);
+    }
+    if (t->table)
+        fprintf(t->table, " %9s\n", "overlaps");
+    if (t->csv)
+        fputs(",overlaps\n", t->csv);
+}
+
+/* A number for the CSV: the shortest text that reads back to it. */
+static void csv_num(FILE *f, double v)
+{
+    char b[PSIM_FORMAT_MAX];
+    psim_format_double(b, v, -1);
+    fprintf(f, ",%s", b);
+}
+
+static int row(cli_thermo *t, const psim_sim *s)
+{
+    psim_thermo th;
+    if (psim_thermo_measure(s, &th))
+        return -1;
+    if (t->table)
+        fprintf(t->table, "%10ld %14.8g %14.6g %14.6g", th.step, th.ke, th.px, th.py);
+    if (t->csv) {
+        fprintf(t->csv, "%ld", th.step);
+        csv_num(t->csv, th.ke), csv_num(t->csv, th.px), csv_num(t->csv, th.py);
+    }
+    for (int k = 0; k < t->ncols; k++) {
+        uint64_t c = psim_counter(s, t->col[k]), d = c - t->last[k];
+        t->last[k] = c;
+        if (t->table)
+            fprintf(t->table, " %16llu", (unsigned long long)d);
+        if (t->csv)
+            fprintf(t->csv, ",%llu", (unsigned long long)d);
+    }
+    if (t->pressure) {
+        /* 2D, unit masses: P A = K + W / (2 dt) over the interval (K = N kT) */
+        double w = psim_value(s, "virial"), dt = (double)(th.step - t->last_step);
+        double p = dt > 0 ? (th.ke + (w - t->last_virial) / (2 * dt)) / t->area : NAN;
+        t->last_virial = w;
+        if (t->table && isnan(p))
+            fprintf(t->table, " %14s", "-");
+        else if (t->table)
+            fprintf(t->table, " %14.8g", p);
+        if (t->csv) {
+            if (isnan(p))
+                fputc(',', t->csv);
+            else
+                csv_num(t->csv, p);
+        }
+    }
+    if (t->table)
+        fprintf(t->table, " %9ld\n", th.overlaps);
+    if (t->csv)
+        fprintf(t->csv, ",%ld\n", th.overlaps);
+    t->last_step = th.step;
+    return 0;
+}
+
+int thermo_start(cli_thermo *t, psim_sim *s, FILE *table, FILE *csv)
+{
+    if (t->every <= 0)
+        return 0;
+    double t0 = psim_now();
+    t->table = table, t->csv = csv;
+    t->last_step = psim_step_index(s);
+    t->last_virial = psim_value(s, "virial");
+    for (int k = 0; k < PSIM_THERMO_MAX && psim_thermo_column(s, k); k++)
+        t->last[k] = psim_counter(s, psim_thermo_column(s, k));
+    header(t, s);
+    int rc = row(t, s);
+    psim_add_output_time(s, psim_now() - t0);
+    return rc;
+}
+
+int thermo_step(cli_thermo *t, psim_sim *s, long k, long steps)
+{
+    if (t->every <= 0 || (k % t->every != 0 && k != steps))
+        return 0;
+    double t0 = psim_now();
+    int rc = row(t, s);
+    if (t->table)
+        fflush(t->table);
+    psim_add_output_time(s, psim_now() - t0);
+    return rc;
+}

@@ -1,0 +1,112 @@
+/* Thermodynamic quantities of the current state (--thermo): kinetic
+ * energy, momentum and overlapping pairs, from the state in id order, so
+ * that they do not depend on the store's order, the thread count or how a
+ * run was chained (a restart sorts afresh). */
+#include <math.h>
+#include <stdlib.h>
+
+#include "engine.h"
+
+/* Cells of at least `reach` a side, clamped into [0, G): clamping keeps
+ * pairs closer than reach in the same or adjacent cells. */
+static int cell_of(double v, double h, int G)
+{
+    double c = floor(v / h);
+    return !(c > 0) ? 0 : c >= G ? G - 1 : (int)c;
+}
+
+/* Pairs (i < j) with squared distance below d2 in cell list a against
+ * cell list b (a == b: within the cell). */
+static long count_pairs(const double *x, const double *y, const uint32_t *ord,
+                        uint32_t a0, uint32_t a1, uint32_t b0, uint32_t b1, int same, double d2)
+{
+    long n = 0;
+    for (uint32_t p = a0; p < a1; p++)
+        for (uint32_t q = same ? p + 1 : b0; q < b1; q++) {
+            double dx = x[ord[q]] - x[ord[p]], dy = y[ord[q]] - y[ord[p]];
+            n += dx * dx + dy * dy < d2;
+        }
+    return n;
+}
+
+/* Pairs closer than 2r, through a cell list of its own (O(n) for any
+ * scene the models run); -1 without memory. */
+static long count_overlaps(const double *x, const double *y, long n, double L, double r)
+{
+    double reach = 2 * r;
+    if (n < 2 || !(reach > 0))
+        return 0;
+    /* at most about 4n cells: a small r in a large box does not cost
+     * memory, only pairs per cell */
+    double g = fmin(floor(L / reach), ceil(2 * sqrt((double)n)));
+    int G = g >= 1 ? (int)g : 1;
+    double h = L / G;
+    size_t cells = (size_t)G * (size_t)G;
+    uint32_t *start = calloc(cells + 1, sizeof *start), *ord = malloc((size_t)n * sizeof *ord),
+             *cell = malloc((size_t)n * sizeof *cell);
+    long found = -1;
+    if (!start || !ord || !cell)
+        goto out;
+    for (long i = 0; i < n; i++) {
+        cell[i] = (uint32_t)cell_of(y[i], h, G) * (uint32_t)G + (uint32_t)cell_of(x[i], h, G);
+        start[cell[i] + 1]++;
+    }
+    for (size_t c = 0; c < cells; c++)
+        start[c + 1] += start[c];
+    for (long i = 0; i < n; i++)   /* stable: ids ascending within a cell */
+        ord[start[cell[i]]++] = (uint32_t)i;
+    for (size_t c = cells; c > 0; c--)
+        start[c] = start[c - 1];
+    start[0] = 0;
+    static const int fwd[4][2] = {{1, 0}, {-1, 1}, {0, 1}, {1, 1}};
+    found = 0;
+    for (int cy = 0; cy < G; cy++)
+        for (int cx = 0; cx < G; cx++) {
+            size_t c = (size_t)cy * (size_t)G + (size_t)cx;
+            if (start[c] == start[c + 1])
+                continue;
+            found += count_pairs(x, y, ord, start[c], start[c + 1], 0, start[c + 1], 1,
+                                 reach * reach);
+            for (int k = 0; k < 4; k++) {
+                int nx = cx + fwd[k][0], ny = cy + fwd[k][1];
+                if (nx < 0 || nx >= G || ny >= G)
+                    continue;
+                size_t d = (size_t)ny * (size_t)G + (size_t)nx;
+                found += count_pairs(x, y, ord, start[c], start[c + 1], start[d], start[d + 1], 0,
+                                     reach * reach);
+            }
+        }
+out:
+    free(start), free(ord), free(cell);
+    return found;
+}
+
+int psim_thermo_measure(const psim_sim *e, psim_thermo *t)
+{
+    long n = e->n;
+    size_t bytes = (size_t)(n > 0 ? n : 1) * sizeof(double);
+    double *x = malloc(bytes), *y = malloc(bytes), *vx = malloc(bytes), *vy = malloc(bytes);
+    int rc = -1;
+    if (!x || !y || !vx || !vy)
+        goto out;
+    psim_get_state(e, x, y, vx, vy);
+    t->step = e->step;
+    t->ke = t->px = t->py = 0;
+    for (long i = 0; i < n; i++) {   /* in id order */
+        t->ke += 0.5 * (vx[i] * vx[i] + vy[i] * vy[i]);
+        t->px += vx[i];
+        t->py += vy[i];
+    }
+    t->overlaps = count_overlaps(x, y, n, e->L, e->r);
+    rc = t->overlaps < 0 ? -1 : 0;
+out:
+    free(x), free(y), free(vx), free(vy);
+    return rc;
+}
+
+const char *psim_thermo_column(const psim_sim *e, int k)
+{
+    if (k < 0 || k >= PSIM_THERMO_MAX)
+        return NULL;
+    return e->model->thermo[k];
+}
