@@ -14,7 +14,8 @@
 #include "../engine/timer.h"
 
 typedef struct run_opts {
-    const char *scene, *out, *trace, *final, *stats, *model, *thermo_file;
+    const char *scene, *out, *trace, *final, *stats, *model, *thermo_file, *dump;
+    long dump_every;        /* --dump-every N (default 1) */
     long threads, steps, digits, tile, substeps;
     long thermo;            /* --thermo N (0: none; LONG_MAX: first and last) */
     long n;                 /* -n: the model's own initial state (-1: none) */
@@ -79,6 +80,9 @@ static void run_usage(FILE *f)
 "      --check       validate every step as the course's validator does\n"
 "      --stats FILE  write run statistics (phase times, counts, per-thread\n"
 "                    profile, placement) as JSON\n"
+"      --dump FILE   write frames in extended XYZ (OVITO, VMD, ASE;\n"
+"                    scripts/animate): steps 0, N, 2N, ... and the last\n"
+"      --dump-every N  the frame interval of --dump (default 1)\n"
 "      --thermo N    every N steps (and at the start and end) print the\n"
 "                    state's kinetic energy, momentum, the model's collision\n"
 "                    counts since the last row, the pressure from the\n"
@@ -223,6 +227,8 @@ static int parse_run(int argc, char **argv, run_opts *o)
         {"substeps", required_argument, 0, 'K'},
         {"thermo", required_argument, 0, 'H'},
         {"thermo-file", required_argument, 0, 'Y'},
+        {"dump", required_argument, 0, 'D'},
+        {"dump-every", required_argument, 0, 'E'},
         {0, 0, 0, 0}};
     memset(o, 0, sizeof *o);
     o->steps = -1;
@@ -257,6 +263,8 @@ static int parse_run(int argc, char **argv, run_opts *o)
         case 'S': o->stats = optarg; break;
         case 'H': if (cli_long("--thermo", optarg, 1, PSIM_MAX_STEPS, &o->thermo)) return 2; break;
         case 'Y': o->thermo_file = optarg; break;
+        case 'D': o->dump = optarg; break;
+        case 'E': if (cli_long("--dump-every", optarg, 1, PSIM_MAX_STEPS, &o->dump_every)) return 2; break;
         case 'L':
             if (cli_long("--tile", optarg, 1, 1 << 20, &o->tile)) return 2;
             if (o->tile & (o->tile - 1)) {
@@ -278,6 +286,12 @@ static int parse_run(int argc, char **argv, run_opts *o)
     }
     if (resolve_s(o))
         return 2;
+    if (o->dump_every && !o->dump) {
+        fprintf(stderr, "psim: --dump-every needs --dump FILE\n");
+        return 2;
+    }
+    if (!o->dump_every)
+        o->dump_every = 1;
     if (o->thermo_file && !o->thermo)
         o->thermo = LONG_MAX;   /* as LAMMPS' thermo 0: the first and last steps */
     if (o->quiet && o->report) {
@@ -310,12 +324,12 @@ static int parse_run(int argc, char **argv, run_opts *o)
         }
         o->threads = t;
     }
-    const char *files[5] = {o->out, o->trace, o->final, o->stats, o->thermo_file};
-    for (int a = 0; a < 5; a++) {
-        for (int b = a + 1; b < 5; b++)
+    const char *files[6] = {o->out, o->trace, o->final, o->stats, o->thermo_file, o->dump};
+    for (int a = 0; a < 6; a++) {
+        for (int b = a + 1; b < 6; b++)
             if (files[a] && files[b] && same_file(files[a], files[b]) && !is_stream(files[a])) {
                 fprintf(stderr, "psim: '%s' is named for two outputs (--out, --trace, --final, "
-                                "--stats, --thermo-file)\n", files[a]);
+                                "--stats, --thermo-file, --dump)\n", files[a]);
                 return 2;
             }
         if (files[a] && o->scene && !is_stream(files[a]) && strcmp(o->scene, "-") &&
@@ -351,7 +365,8 @@ static int load_scene(run_opts *o, psim_scene *sc, psim_error *err)
 }
 
 typedef struct run_state {
-    outfile out, trace, final, stats, thermo;
+    outfile out, trace, final, stats, thermo, dump;
+    double L, r;                  /* the box and radius, for --dump */
     cli_thermo th;
     psim_output_style style;
     int print;          /* the model's output holds every step */
@@ -413,6 +428,8 @@ static int open_outputs(const run_opts *o, run_state *rs)
         return -1;
     if (o->thermo_file && outfile_open(&rs->thermo, o->thermo_file))
         return -1;
+    if (o->dump && outfile_open(&rs->dump, o->dump))
+        return -1;
     return 0;
 }
 
@@ -423,6 +440,7 @@ static void abort_outputs(run_state *rs)
     outfile_abort(&rs->final);
     outfile_abort(&rs->stats);
     outfile_abort(&rs->thermo);
+    outfile_abort(&rs->dump);
 }
 
 /* Whether the model's output holds the state after step k of steps (the
@@ -441,11 +459,34 @@ static void set_write_failed(psim_error *err, const char *name)
     psim_error_set(err, "%s: write failed: %s", name, strerror(e));
 }
 
+/* An extended XYZ frame of the state after step k (--dump). */
+static int write_dump(psim_sim *s, run_state *rs, long k)
+{
+    double t0 = psim_now();
+    long n = psim_count(s);
+    size_t bytes = (size_t)(n > 0 ? n : 1) * sizeof(double);
+    double *x = malloc(bytes), *y = malloc(bytes), *vx = malloc(bytes), *vy = malloc(bytes);
+    int rc = -1;
+    if (x && y && vx && vy) {
+        psim_get_state(s, x, y, vx, vy);
+        rc = psim_write_xyz(rs->dump.f, k, n, rs->L, rs->r, x, y, vx, vy);
+    } else
+        errno = ENOMEM;
+    free(x), free(y), free(vx), free(vy);
+    psim_add_output_time(s, psim_now() - t0);
+    return rc;
+}
+
 /* The states due after step k of steps: the trace every step, the
- * model's output as its source writes it. */
+ * model's output as its source writes it, the dump every --dump-every
+ * steps and after the last. */
 static int write_step(const run_opts *o, psim_sim *s, long k, long steps, run_state *rs,
                       psim_error *err)
 {
+    if (rs->dump.f && (k % o->dump_every == 0 || k == steps) && write_dump(s, rs, k)) {
+        set_write_failed(err, o->dump);
+        return -1;
+    }
     if (rs->trace.f && write_trace(s, rs->trace.f, k, o->digits)) {
         set_write_failed(err, o->trace);
         return -1;
@@ -500,7 +541,11 @@ static int simulate(const run_opts *o, psim_sim *s, const psim_scene *sc,
     /* a thermo table shows the progress itself */
     progress_init(&pb, steps, o->quiet || (o->thermo && !o->quiet));
     int rc = 0;
-    if (thermo_start(&rs->th, s, o->quiet ? NULL : stderr, rs->thermo.f)) {
+    if (rs->dump.f && write_dump(s, rs, 0)) {
+        set_write_failed(err, o->dump);
+        rc = -1;
+    }
+    if (rc == 0 && thermo_start(&rs->th, s, o->quiet ? NULL : stderr, rs->thermo.f)) {
         psim_error_set(err, "out of memory for --thermo");
         rc = -1;
     }
@@ -605,6 +650,7 @@ int cli_run(int argc, char **argv)
     rs.style = psim_get_output_style(s);
     rs.print = rs.style.every_step && sc.print;
     thermo_init(&rs.th, o.thermo, sc.L);
+    rs.L = sc.L, rs.r = sc.r;
     if (open_outputs(&o, &rs))
         goto done;
     double t0 = psim_now();
@@ -639,10 +685,10 @@ int cli_run(int argc, char **argv)
     }
     /* the summary goes to stderr when an output is on stdout */
     FILE *info = (on_stdout(&rs.out) || on_stdout(&rs.trace) || on_stdout(&rs.final) ||
-                  on_stdout(&rs.stats) || on_stdout(&rs.thermo))
+                  on_stdout(&rs.stats) || on_stdout(&rs.thermo) || on_stdout(&rs.dump))
                      ? stderr : stdout;
-    outfile *outs[5] = {&rs.out, &rs.trace, &rs.final, &rs.stats, &rs.thermo};
-    if (outfile_commit_all(outs, 5))
+    outfile *outs[6] = {&rs.out, &rs.trace, &rs.final, &rs.stats, &rs.thermo, &rs.dump};
+    if (outfile_commit_all(outs, 6))
         goto done;
     if (!o.quiet) {
         psim_print_source_summary(info, s, loop_s);

@@ -64,4 +64,17 @@ expect_fail "--scene" "$ANIMATE" trace.txt -o bad.gif
 expect_fail "--scene" "$ANIMATE" trace.txt --L 10 -o bad.gif
 expect_fail --rc 1 "missing.txt" "$ANIMATE" missing.txt --scene scene.in -o bad.gif
 [[ ! -e bad.gif ]] || fail "a failed run left bad.gif behind"
+# an extended XYZ dump (psim --dump): the box and radius from the dump
+run_ok "$PSIM" -q --dump run.xyz --dump-every 2 scene.in
+run_ok "$ANIMATE" run.xyz -o xyz.gif
+grep -q 'wrote xyz.gif (4 frames, 3 disks)' .run_ok.err || fail "xyz: $(cat .run_ok.err)"
+frames=$("$PY" -c 'import sys; from PIL import Image; print(Image.open(sys.argv[1]).n_frames)' xyz.gif)
+[[ $frames -eq 4 ]] || fail "xyz.gif has $frames frames, expected 4 (steps 0, 2, 4, 5)"
+sed -i '5s/.*/1 abc 2 0 1 1 0 1/' run.xyz
+expect_fail --rc 1 "run.xyz:5" "$ANIMATE" run.xyz -o bad.gif
+printf '2\nLattice="5 0 0 0 6 0 0 0 1" Properties=pos:R:3\n1 1 0\n2 2 0\n' >rect.xyz
+expect_fail --rc 1 "rect.xyz:2" "$ANIMATE" rect.xyz -o bad.gif
+printf '2\nProperties=pos:R:3\n1 1 0\n' >cut.xyz
+expect_fail --rc 1 "cut.xyz:4" "$ANIMATE" cut.xyz -o bad.gif --L 5 --r 1
+[[ ! -e bad.gif ]] || fail "a failed run left bad.gif behind"
 echo "animate: ok"
