@@ -256,7 +256,18 @@ double psim_value(const psim_sim *s, const char *name);
  * Returns the length written. */
 int psim_format_double(char *buf, double v, int digits);
 
-/* Write lines "STEP i x y vx vy" for every particle in id order. */
+/* Progress of long reads and writes, for a progress display: fn is
+ * called after each block of a scene read (writing 0; done and total in
+ * bytes, total -1 when unknown, as for a pipe) and after each block of
+ * lines written (writing 1; done and total in lines), one call at a time.
+ * NULL (the default): none. */
+typedef void (*psim_io_progress_fn)(void *ctx, int writing, long long done,
+                                    long long total);
+void psim_set_io_progress(psim_io_progress_fn fn, void *ctx);
+
+/* Write lines "STEP i x y vx vy" for every particle in id order (in
+ * parallel: chunks of lines are made by omp_get_max_threads() threads and
+ * written in order, the same bytes for any thread count). */
 int psim_write_state(FILE *f, long step, long n, const double *x,
                      const double *y, const double *vx, const double *vy,
                      int digits);

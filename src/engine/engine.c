@@ -402,14 +402,36 @@ int psim_write_output(psim_sim *e, FILE *f, long step, int final, int digits)
     return psim_write_trace(e, f, step, digits);
 }
 
+int psim_state_cols_take(const psim_sim *e, psim_cols *c)
+{
+    const psim_store *s = &e->st;
+    int32_t *at = psim_alloc((s->n > 0 ? s->n : 1) * sizeof *at);
+    *c = (psim_cols){s->x, s->y, s->vx, s->vy, at};
+    if (!at) {
+        errno = ENOMEM;
+        return -1;
+    }
+    const long n = (long)s->n;
+#pragma omp parallel for schedule(static) num_threads(e->threads) if (n > 65536)
+    for (long k = 0; k < n; k++)
+        at[s->id[k]] = (int32_t)k;
+    return 0;
+}
+
+void psim_state_cols_free(psim_cols *c)
+{
+    psim_free((void *)c->at);
+    c->at = NULL;
+}
+
 int psim_write_trace(psim_sim *e, FILE *f, long step, int digits)
 {
-    psim_snapshot s;
-    int rc = -1;
-    if (psim_snapshot_take(e, &s) == 0)
-        rc = psim_write_state(f, step, e->n, s.x, s.y, s.vx, s.vy,
-                              digits >= 0 ? digits : e->model->output_digits);
-    psim_snapshot_free(&s);
+    psim_cols c;
+    if (psim_state_cols_take(e, &c))
+        return -1;
+    int rc = psim_write_state_cols(f, step, e->n, &c,
+                                   digits >= 0 ? digits : e->model->output_digits, e->threads);
+    psim_state_cols_free(&c);
     return rc;
 }
 

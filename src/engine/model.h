@@ -15,6 +15,7 @@
 #include <stdio.h>
 
 #include "psim/psim.h"
+#include "../io/fmt.h"
 
 struct psim_sim;
 
@@ -80,6 +81,11 @@ typedef struct psim_model {
 /* The state by id (allocated; free with psim_snapshot_free). */
 int psim_snapshot_take(const struct psim_sim *e, psim_snapshot *s);
 void psim_snapshot_free(psim_snapshot *s);
+/* The state by id without copying it, for writers: the store's arrays and
+ * where each id is in them (4 bytes a particle, allocated; free with
+ * psim_state_cols_free).  0, or -1 when out of memory. */
+int psim_state_cols_take(const struct psim_sim *e, psim_cols *c);
+void psim_state_cols_free(psim_cols *c);
 
 /* Create a simulation of sc with model m (the composing layer's call). */
 struct psim_sim *psim_engine_create(const psim_scene *sc, const psim_config *cfg,

@@ -1,68 +1,121 @@
-/* Text output of numbers and states. */
+/* Text output of numbers and states.  Numbers are made by the exact fast
+ * conversions of fmt.c, lines in parallel chunks written in order
+ * (psim_write_lines); PSIM_SLOW_IO=1 keeps the old fprintf code paths,
+ * the reference the tests compare the bytes with. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include <omp.h>
+
+#include "fmt.h"
 #include "psim/psim.h"
 
 int psim_format_double(char *buf, double v, int digits)
 {
-    if (digits >= 0) {
-        if (digits > PSIM_DIGITS_MAX)
-            digits = PSIM_DIGITS_MAX;
-        int len = snprintf(buf, PSIM_FORMAT_MAX, "%.*f", digits, v);
-        /* no negative zero: "-0.000" prints as "0.000" */
-        if (buf[0] == '-' && strspn(buf + 1, "0.") == (size_t)(len - 1)) {
-            memmove(buf, buf + 1, (size_t)len);
-            len--;
+    if (digits >= 0)
+        return psim_fmt_fixed(buf, v, digits > PSIM_DIGITS_MAX ? PSIM_DIGITS_MAX : digits, 0);
+    return psim_fmt_shortest(buf, v);
+}
+
+/* one number: shortest (digits < 0) or fixed without negative zero */
+static inline char *put_num(char *p, double v, int digits)
+{
+    return p + (digits >= 0 ? psim_fmt_fixed(p, v, digits, 0) : psim_fmt_shortest(p, v));
+}
+
+/* The longest line of four numbers and two integers. */
+#define STATE_LINE_MAX (2 * 24 + 4 * (PSIM_FMT_MAX + 1))
+
+typedef struct state_ctx {
+    const psim_cols *c;
+    int with_step;   /* 0: scene lines "i x y vx vy" */
+    long step;
+    int digits;
+} state_ctx;
+
+static size_t state_line(char *out, long i, const void *vctx)
+{
+    const state_ctx *s = vctx;
+    const psim_cols *c = s->c;
+    long k = c->at ? c->at[i] : i;
+    char *p = out;
+    if (s->with_step) {
+        p = psim_fmt_long(p, s->step);
+        *p++ = ' ';
+    }
+    p = psim_fmt_long(p, i);
+    *p++ = ' ';
+    p = put_num(p, c->x[k], s->digits);
+    *p++ = ' ';
+    p = put_num(p, c->y[k], s->digits);
+    *p++ = ' ';
+    p = put_num(p, c->vx[k], s->digits);
+    *p++ = ' ';
+    p = put_num(p, c->vy[k], s->digits);
+    *p++ = '\n';
+    return (size_t)(p - out);
+}
+
+/* The old code: snprintf per number, fprintf per line. */
+static int write_state_slow(FILE *f, int with_step, long step, long n, const psim_cols *c,
+                            int digits)
+{
+    char a[PSIM_FMT_MAX], b[PSIM_FMT_MAX], cc[PSIM_FMT_MAX], d[PSIM_FMT_MAX];
+    for (long i = 0; i < n; i++) {
+        long k = c->at ? c->at[i] : i;
+        if (digits >= 0) {
+            psim_fmt_fixed_ref(a, c->x[k], digits, 0);
+            psim_fmt_fixed_ref(b, c->y[k], digits, 0);
+            psim_fmt_fixed_ref(cc, c->vx[k], digits, 0);
+            psim_fmt_fixed_ref(d, c->vy[k], digits, 0);
+        } else {
+            psim_fmt_shortest_ref(a, c->x[k]);
+            psim_fmt_shortest_ref(b, c->y[k]);
+            psim_fmt_shortest_ref(cc, c->vx[k]);
+            psim_fmt_shortest_ref(d, c->vy[k]);
         }
-        return len;
+        int w = with_step ? fprintf(f, "%ld %ld %s %s %s %s\n", step, i, a, b, cc, d)
+                          : fprintf(f, "%ld %s %s %s %s\n", i, a, b, cc, d);
+        if (w < 0)
+            return -1;
     }
-    /* Any decimal of <= 15 significant digits survives a round trip, so the
-     * first of %.15g, %.16g, %.17g that reads back is the shortest. */
-    int len = 0;
-    for (int p = 15; p <= 17; p++) {
-        len = snprintf(buf, PSIM_FORMAT_MAX, "%.*g", p, v);
-        if (strtod(buf, NULL) == v)
-            break;
-    }
-    return len;
+    return 0;
+}
+
+static int write_cols(FILE *f, int with_step, long step, long n, const psim_cols *c,
+                      int digits, int threads)
+{
+    if (digits > PSIM_DIGITS_MAX)
+        digits = PSIM_DIGITS_MAX;
+    if (psim_io_slow())
+        return write_state_slow(f, with_step, step, n, c, digits);
+    state_ctx s = {c, with_step, step, digits};
+    return psim_write_lines(f, n, threads, STATE_LINE_MAX, state_line, &s);
+}
+
+int psim_write_state_cols(FILE *f, long step, long n, const psim_cols *c, int digits,
+                          int threads)
+{
+    return write_cols(f, 1, step, n, c, digits, threads);
 }
 
 int psim_write_state(FILE *f, long step, long n, const double *x,
                      const double *y, const double *vx, const double *vy,
                      int digits)
 {
-    char a[PSIM_FORMAT_MAX], b[PSIM_FORMAT_MAX], c[PSIM_FORMAT_MAX],
-        d[PSIM_FORMAT_MAX];
-    for (long i = 0; i < n; i++) {
-        psim_format_double(a, x[i], digits);
-        psim_format_double(b, y[i], digits);
-        psim_format_double(c, vx[i], digits);
-        psim_format_double(d, vy[i], digits);
-        if (fprintf(f, "%ld %ld %s %s %s %s\n", step, i, a, b, c, d) < 0)
-            return -1;
-    }
-    return 0;
+    psim_cols c = {x, y, vx, vy, NULL};
+    return write_cols(f, 1, step, n, &c, digits, omp_get_max_threads());
 }
 
 int psim_scene_write(FILE *f, const psim_scene *sc)
 {
     char L[PSIM_FORMAT_MAX], r[PSIM_FORMAT_MAX];
-    psim_format_double(L, sc->L, -1);
-    psim_format_double(r, sc->r, -1);
+    psim_fmt_shortest(L, sc->L);
+    psim_fmt_shortest(r, sc->r);
     if (fprintf(f, "%ld\n%s\n%s\n%ld\n", sc->n, L, r, sc->steps) < 0)
         return -1;
-    char a[PSIM_FORMAT_MAX], b[PSIM_FORMAT_MAX], c[PSIM_FORMAT_MAX],
-        d[PSIM_FORMAT_MAX];
-    for (long i = 0; i < sc->n; i++) {
-        psim_format_double(a, sc->x[i], -1);
-        psim_format_double(b, sc->y[i], -1);
-        psim_format_double(c, sc->vx[i], -1);
-        psim_format_double(d, sc->vy[i], -1);
-        if (fprintf(f, "%ld %s %s %s %s\n", i, a, b, c, d) < 0)
-            return -1;
-    }
-    return 0;
+    psim_cols c = {sc->x, sc->y, sc->vx, sc->vy, NULL};
+    return write_cols(f, 0, 0, sc->n, &c, -1, omp_get_max_threads());
 }

@@ -228,21 +228,65 @@ static int interact(psim_sim *e, void *p, psim_error *err)
 /* The authors' lines: "step i x y vx vy" with %.8f numbers (printf's, so
  * -0.00000000 for negative zero), and the final step with each disk's
  * pair and wall collision counts. */
+typedef struct ccd_out {
+    psim_cols c;
+    const int64_t *pcoll, *wcoll;   /* NULL: not the final step */
+    long step;
+    int digits;
+} ccd_out;
+
+#define CCD_LINE_MAX (4 * 24 + 4 * (PSIM_FMT_MAX + 1))
+
+static size_t ccd_line(char *out, long i, const void *ctx)
+{
+    const ccd_out *o = ctx;
+    long k = o->c.at[i];
+    char *p = psim_fmt_long(out, o->step);
+    *p++ = ' ';
+    p = psim_fmt_long(p, i);
+    const double v[4] = {o->c.x[k], o->c.y[k], o->c.vx[k], o->c.vy[k]};
+    for (int j = 0; j < 4; j++) {
+        *p++ = ' ';
+        p += psim_fmt_fixed(p, v[j], o->digits, 1);
+    }
+    if (o->pcoll) {
+        *p++ = ' ';
+        p = psim_fmt_long(p, o->pcoll[i]);
+        *p++ = ' ';
+        p = psim_fmt_long(p, o->wcoll[i]);
+    }
+    *p++ = '\n';
+    return (size_t)(p - out);
+}
+
+/* the authors' fprintf, line by line (PSIM_SLOW_IO=1: the reference) */
+static int ccd_lines_slow(FILE *f, long n, const ccd_out *o)
+{
+    const int digits = o->digits;
+    for (long i = 0; i < n; i++) {
+        long k = o->c.at[i];
+        const double x = o->c.x[k], y = o->c.y[k], vx = o->c.vx[k], vy = o->c.vy[k];
+        int w = o->pcoll ? fprintf(f, "%ld %ld %.*f %.*f %.*f %.*f %lld %lld\n", o->step, i,
+                                   digits, x, digits, y, digits, vx, digits, vy,
+                                   (long long)o->pcoll[i], (long long)o->wcoll[i])
+                         : fprintf(f, "%ld %ld %.*f %.*f %.*f %.*f\n", o->step, i, digits, x,
+                                   digits, y, digits, vx, digits, vy);
+        if (w < 0)
+            return -1;
+    }
+    return 0;
+}
+
 static int write_state(psim_sim *e, void *p, FILE *f, long step, int final, int digits)
 {
     cmodel *m = p;
-    psim_snapshot s;
-    int rc = psim_snapshot_take(e, &s);
-    for (long i = 0; i < e->n && rc == 0; i++) {
-        int w = final ? fprintf(f, "%ld %ld %.*f %.*f %.*f %.*f %lld %lld\n", step, i, digits,
-                                s.x[i], digits, s.y[i], digits, s.vx[i], digits, s.vy[i],
-                                (long long)m->pcoll[i], (long long)m->wcoll[i])
-                      : fprintf(f, "%ld %ld %.*f %.*f %.*f %.*f\n", step, i, digits, s.x[i],
-                                digits, s.y[i], digits, s.vx[i], digits, s.vy[i]);
-        if (w < 0)
-            rc = -1;
-    }
-    psim_snapshot_free(&s);
+    ccd_out o = {.pcoll = final ? m->pcoll : NULL, .wcoll = final ? m->wcoll : NULL,
+                 .step = step, .digits = digits > PSIM_DIGITS_MAX ? PSIM_DIGITS_MAX : digits};
+    if (psim_state_cols_take(e, &o.c))
+        return -1;
+    int rc = psim_io_slow() ? ccd_lines_slow(f, e->n, &o)
+                            : psim_write_lines(f, e->n, e->threads, CCD_LINE_MAX, ccd_line, &o);
+    psim_state_cols_free(&o.c);
     return rc;
 }
 

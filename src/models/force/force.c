@@ -154,18 +154,47 @@ static int write_header(psim_sim *e, void *p, FILE *f)
     return fprintf(f, "%ld %g\n", e->n, m->law.size) < 0 ? -1 : 0;
 }
 
+typedef struct force_out {
+    psim_cols c;
+    int prec;
+} force_out;
+
+#define FORCE_LINE_MAX (2 * (PSIM_FMT_MAX + 1))
+
+static size_t force_line(char *out, long i, const void *ctx)
+{
+    const force_out *o = ctx;
+    long k = o->c.at[i];
+    char *p = out;
+    p += psim_fmt_general(p, o->c.x[k], o->prec);
+    *p++ = ' ';
+    p += psim_fmt_general(p, o->c.y[k], o->prec);
+    *p++ = '\n';
+    return (size_t)(p - out);
+}
+
+/* the course's stream output, line by line (PSIM_SLOW_IO=1: the reference) */
+static int force_lines_slow(FILE *f, long n, const force_out *o)
+{
+    for (long i = 0; i < n; i++) {
+        long k = o->c.at[i];
+        if (fprintf(f, "%.*g %.*g\n", o->prec, o->c.x[k], o->prec, o->c.y[k]) < 0)
+            return -1;
+    }
+    return 0;
+}
+
 static int write_state(psim_sim *e, void *p, FILE *f, long step, int final, int digits)
 {
     (void)p, (void)step, (void)final;
-    int prec = digits < 0 ? 6 : digits;
-    psim_snapshot s;
-    int rc = psim_snapshot_take(e, &s);
-    for (long i = 0; i < e->n && rc == 0; i++)
-        if (fprintf(f, "%.*g %.*g\n", prec, s.x[i], prec, s.y[i]) < 0)
-            rc = -1;
+    force_out o = {.prec = digits < 0 ? 6 : digits};
+    if (psim_state_cols_take(e, &o.c))
+        return -1;
+    int rc = psim_io_slow() ? force_lines_slow(f, e->n, &o)
+                            : psim_write_lines(f, e->n, e->threads, FORCE_LINE_MAX, force_line, &o);
     if (rc == 0 && fputc('\n', f) == EOF)
         rc = -1;
-    psim_snapshot_free(&s);
+    psim_state_cols_free(&o.c);
     return rc;
 }
 
