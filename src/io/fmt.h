@@ -46,6 +46,10 @@ char *psim_fmt_long(char *p, long long v);
  * it, in *out, and the end of the number. */
 const char *psim_scan_double(const char *s, double *out);
 
+/* Tests: the scene reader's block size and smallest piece per thread
+ * (0: the defaults, 8 MiB and 64 KiB). */
+void psim_io_set_blocks(size_t block, size_t piece);
+
 /* PSIM_SLOW_IO=1 in the environment: the old code paths (snprintf and
  * fprintf, strtod line by line), for tests that compare the bytes. */
 int psim_io_slow(void);

@@ -2,14 +2,38 @@
  * "FILE:LINE: what".
  *   AY2024/25: N, L, r, S, then N lines "i x y vx vy";
  *   AY2019/20: N, L, r, S, then "print" or "perf", then N lines
- *   "i x y vx vy" or none (the course's generator makes them). */
+ *   "i x y vx vy" or none (the course's generator makes them).
+ *
+ * The header is read line by line.  The particle lines are read in large
+ * blocks, each block parsed in parallel: split at newlines into one piece
+ * per thread, the lines of each piece numbered from the newlines counted
+ * before it, and every line of the plain form (fields separated by spaces
+ * or tabs, decimal numbers, an optional CR before the newline) read with
+ * psim_scan_double (fmt.c: strtod's values exactly) and stored by id; an
+ * id is claimed with an atomic exchange on its `seen` byte, so only its
+ * first claimant writes it.  A block with anything else in it (a line of
+ * another form, an error of any kind, more lines than N) is read again by
+ * the line-by-line reader from the block's start, which then says exactly
+ * what the line-by-line reader always said, at the same line.  A duplicate
+ * id is one seen on an earlier line (seen[id] with line[id] below this
+ * line), so a claim made by a later line of the same block in the parallel
+ * pass does not count. */
 #include <ctype.h>
 #include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
+#include <omp.h>
+
+#include "fmt.h"
 #include "psim/psim.h"
+
+/* The longest line a scene may have: five numbers of 17 digits with their
+ * signs and exponents fit many times over.  A longer "line" is binary data
+ * (a file of zero bytes has no newline at all). */
+#define MAX_LINE 4096
 
 typedef struct reader {
     FILE *f;
@@ -19,17 +43,27 @@ typedef struct reader {
     int pushed;     /* the line in buf is to be read again */
     int failed;     /* next_line found what no scene has (err is set) */
     psim_error *err;
-    char *chunk;    /* the file, read a chunk at a time */
+    char *chunk;    /* the file, read a chunk at a time (NUL after end) */
     size_t pos, end;
     int eof;
+    long long consumed;  /* bytes of the file read as lines so far */
+    long long size;      /* the file's size, -1 when unknown (a pipe) */
+    size_t cap;          /* chunk's size (block_bytes) */
 } reader;
 
-#define CHUNK (1u << 20)
+/* Bytes read at a time (blocks of particle lines are parsed in parallel,
+ * one piece per thread of at least piece_min bytes); tests make them
+ * small (psim_io_set_blocks). */
+static size_t block_bytes = (size_t)8 << 20, piece_min = (size_t)1 << 16;
 
-/* The longest line a scene may have: five numbers of 17 digits with their
- * signs and exponents fit many times over.  A longer "line" is binary data
- * (a file of zero bytes has no newline at all). */
-#define MAX_LINE 4096
+void psim_io_set_blocks(size_t block, size_t piece)
+{
+    block_bytes = block ? block : (size_t)8 << 20;
+    if (block_bytes < 4 * MAX_LINE)
+        block_bytes = 4 * MAX_LINE;
+    piece_min = piece ? piece : (size_t)1 << 16;
+}
+
 
 static int blank(const char *s)
 {
@@ -47,8 +81,9 @@ static size_t refill(reader *rd)
     memmove(rd->chunk, rd->chunk + rd->pos, rd->end - rd->pos);
     rd->end -= rd->pos;
     rd->pos = 0;
-    size_t got = fread(rd->chunk + rd->end, 1, CHUNK - rd->end, rd->f);
+    size_t got = fread(rd->chunk + rd->end, 1, rd->cap - rd->end, rd->f);
     rd->end += got;
+    rd->chunk[rd->end] = '\0';
     if (got == 0)
         rd->eof = 1;
     return rd->end;
@@ -60,7 +95,7 @@ static long read_line(reader *rd)
 {
     if (!rd->buf) {
         rd->buf = malloc(MAX_LINE + 1);
-        rd->chunk = malloc(CHUNK);
+        rd->chunk = malloc(rd->cap + 1);
         if (!rd->buf || !rd->chunk) {
             psim_error_set(rd->err, "%s: out of memory", rd->name);
             return -2;
@@ -88,6 +123,7 @@ static long read_line(reader *rd)
     memcpy(rd->buf, rd->chunk + rd->pos, len);
     rd->buf[len] = '\0';
     rd->pos += len + (nl != NULL);
+    rd->consumed += (long long)(len + (nl != NULL));
     rd->line++;
     /* a UTF-8 byte-order mark (editors on Windows write one) is not text */
     if (rd->line == 1 && len >= 3 && memcmp(rd->buf, "\xEF\xBB\xBF", 3) == 0) {
@@ -267,18 +303,193 @@ static int read_particle(reader *rd, psim_scene *sc, unsigned char *seen,
                        rd->name, rd->line, id, sc->n - 1);
         return -1;
     }
-    if (seen[id]) {
+    /* (an id claimed by a later line of this block in the parallel pass
+     * is not seen yet) */
+    if (seen[id] && sc->line[id] < rd->line) {
         psim_error_set(err, "%s:%ld: particle index %ld appears twice", rd->name,
                        rd->line, id);
         return -1;
     }
     seen[id] = 1;
-    if (sc->line)
-        sc->line[id] = rd->line;
+    sc->line[id] = rd->line;
     sc->x[id] = v[0];
     sc->y[id] = v[1];
     sc->vx[id] = v[2];
     sc->vy[id] = v[3];
+    return 0;
+}
+
+/* ---- particle lines in parallel blocks ------------------------------------ */
+
+static inline int sep(char c) { return c == ' ' || c == '\t'; }
+
+/* The end of a field: a separator, the line's end or the data's end. */
+static inline int field_end(const char *p, const char *lim)
+{
+    return sep(*p) || *p == '\n' || *p == '\r' || p == lim;
+}
+
+typedef struct block_job {
+    psim_scene *sc;
+    unsigned char *seen;
+    const char *lim;   /* the end of the data read (NUL there) */
+} block_job;
+
+/* Parse the lines of [p, b), the first being line line0 + 1: store every
+ * particle line of the plain form and count them in *count; 0, or -1 at
+ * the first line that is not of that form or not acceptable (the line by
+ * line reader then says why). */
+static int parse_piece(const block_job *j, const char *p, const char *b, long line0,
+                       long *count)
+{
+    psim_scene *sc = j->sc;
+    const char *lim = j->lim;
+    long line = line0, c = 0;
+    while (p < b) {
+        const char *start = p;
+        line++;
+        while (sep(*p))
+            p++;
+        if (*p == '\r')
+            p += p[1] == '\n' || p + 1 == lim;
+        if (*p == '\n' || p == lim) {   /* blank */
+            if ((size_t)(p - start) > MAX_LINE)
+                return -1;
+            p += p < lim;
+            continue;
+        }
+        uint64_t id = 0;
+        const char *d0 = p;
+        while ((unsigned)(*p - '0') < 10u && p - d0 < 18)
+            id = id * 10 + (uint64_t)(*p++ - '0');
+        if (p == d0 || !sep(*p))
+            return -1;
+        double v[4];
+        for (int f = 0; f < 4; f++) {
+            if (!sep(*p))
+                return -1;
+            while (sep(*p))
+                p++;
+            p = psim_scan_double(p, &v[f]);
+            if (!p || !field_end(p, lim) || !isfinite(v[f]))
+                return -1;
+        }
+        while (sep(*p))
+            p++;
+        if (*p == '\r')
+            p++;
+        if (!(*p == '\n' || p == lim) || (size_t)(p - start) > MAX_LINE)
+            return -1;
+        p += p < lim;
+        if (id >= (uint64_t)sc->n || __atomic_exchange_n(&j->seen[id], 1, __ATOMIC_RELAXED))
+            return -1;   /* out of range, or a duplicate */
+        sc->x[id] = v[0];
+        sc->y[id] = v[1];
+        sc->vx[id] = v[2];
+        sc->vy[id] = v[3];
+        sc->line[id] = line;
+        c++;
+    }
+    *count = c;
+    return 0;
+}
+
+#define MAX_PIECES 256
+
+/* The whole lines of [base, cut), from line rd->line + 1, in parallel:
+ * 0 with the lines and the particle lines among them, or -1 when a line
+ * needs the line by line reader. */
+static int parse_block(const reader *rd, const block_job *j, const char *base,
+                       const char *cut, long *lines, long *count)
+{
+    size_t len = (size_t)(cut - base);
+    int T = omp_get_max_threads();
+    if (T > MAX_PIECES)
+        T = MAX_PIECES;
+    if (len < piece_min * (size_t)T)
+        T = len / piece_min > 1 ? (int)(len / piece_min) : 1;
+    const char *start[MAX_PIECES + 1];
+    long nl[MAX_PIECES], cnt[MAX_PIECES];
+    int bad[MAX_PIECES];
+    start[0] = base;
+    for (int t = 1; t < T; t++) {
+        const char *s0 = base + len * (size_t)t / (size_t)T;
+        if (s0 < start[t - 1])
+            s0 = start[t - 1];
+        const char *q = memchr(s0, '\n', (size_t)(cut - s0));
+        start[t] = q ? q + 1 : cut;
+    }
+    start[T] = cut;
+#pragma omp parallel num_threads(T) if (T > 1)
+    {
+        int nt = omp_get_num_threads(), me = omp_get_thread_num();
+        for (int t = me; t < T; t += nt) {
+            long c = 0;
+            for (const char *q = start[t]; q < start[t + 1]; q++)
+                c += *q == '\n';
+            nl[t] = c;
+        }
+#pragma omp barrier
+        for (int t = me; t < T; t += nt) {
+            long line0 = rd->line;
+            for (int u = 0; u < t; u++)
+                line0 += nl[u];
+            bad[t] = parse_piece(j, start[t], start[t + 1], line0, &cnt[t]);
+        }
+    }
+    long L = 0, C = 0;
+    for (int t = 0; t < T; t++) {
+        if (bad[t])
+            return -1;
+        L += nl[t];
+        C += cnt[t];
+    }
+    *lines = L + (cut > base && cut[-1] != '\n');   /* a last line without newline */
+    *count = C;
+    return 0;
+}
+
+/* The particle lines, k of them read already: blocks in parallel, and
+ * the line by line reader for any block it does not take whole. */
+static int read_particles(reader *rd, psim_scene *sc, unsigned char *seen, long *k,
+                          psim_error *err)
+{
+    const int fast = !psim_io_slow();
+    block_job j = {sc, seen, NULL};
+    while (*k < sc->n) {
+        if (fast && !rd->pushed) {
+            if (!rd->eof && rd->end - rd->pos < rd->cap / 2)
+                refill(rd);
+            const char *base = rd->chunk + rd->pos, *lim = rd->chunk + rd->end;
+            const char *cut = rd->eof ? lim : memrchr(base, '\n', (size_t)(lim - base));
+            if (cut && !rd->eof)
+                cut++;
+            if (cut && cut > base) {
+                long lines = 0, count = 0;
+                j.lim = lim;
+                if (parse_block(rd, &j, base, cut, &lines, &count) == 0 &&
+                    count <= sc->n - *k) {
+                    rd->pos += (size_t)(cut - base);
+                    rd->consumed += cut - base;
+                    rd->line += lines;
+                    *k += count;
+                    psim_io_progress(0, rd->consumed, rd->size);
+                    continue;
+                }
+                /* the line by line reader, over this block */
+                long long stop = rd->consumed + (cut - base);
+                while (rd->consumed < stop && *k < sc->n) {
+                    if (read_particle(rd, sc, seen, *k, err))
+                        return -1;
+                    ++*k;
+                }
+                continue;
+            }
+        }
+        if (read_particle(rd, sc, seen, *k, err))
+            return -1;
+        ++*k;
+    }
     return 0;
 }
 
@@ -304,7 +515,10 @@ static int read_mode(reader *rd, psim_scene *sc)
 int psim_scene_read_stream(FILE *f, const char *name, psim_scene *sc,
                            psim_error *err)
 {
-    reader rd = {.f = f, .name = name, .err = err};
+    reader rd = {.f = f, .name = name, .err = err, .size = -1, .cap = block_bytes};
+    struct stat st;
+    if (fstat(fileno(f), &st) == 0 && S_ISREG(st.st_mode))
+        rd.size = (long long)st.st_size;
     unsigned char *seen = NULL;
     memset(sc, 0, sizeof *sc);
     int rc = -1;
@@ -330,9 +544,9 @@ int psim_scene_read_stream(FILE *f, const char *name, psim_scene *sc,
         }
         rd.pushed = 1;
     }
-    for (long k = 0; k < sc->n; k++)
-        if (read_particle(&rd, sc, seen, k, err))
-            goto done;
+    long k = 0;
+    if (read_particles(&rd, sc, seen, &k, err))
+        goto done;
     if (next_line(&rd)) {
         psim_error_set(err, "%s:%ld: more particle lines than N = %ld", name,
                        rd.line, sc->n);

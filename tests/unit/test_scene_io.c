@@ -4,7 +4,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <omp.h>
+
 #include "check.h"
+#include "io/fmt.h"
 #include "psim/psim.h"
 
 static int read_text(const char *text, psim_scene *sc, psim_error *err)
@@ -15,8 +18,11 @@ static int read_text(const char *text, psim_scene *sc, psim_error *err)
     return rc;
 }
 
+static void same_both_ways(const char *text, size_t len, const char *what);
+
 static void expect_error(const char *text, const char *where, const char *what)
 {
+    same_both_ways(text, strlen(text), text);
     psim_scene sc;
     psim_error err = {{0}, 0};
     CHECK_MSG(read_text(text, &sc, &err) != 0, "accepted: %s", text);
@@ -103,10 +109,209 @@ static void test_generate_roundtrip(void)
     CHECK(strstr(err.msg, "cannot place") != NULL);
 }
 
+/* ---- the block reader against the line-by-line reader ---------------- */
+
+static int read_mem(const char *text, size_t len, psim_scene *sc, psim_error *err)
+{
+    FILE *f = fmemopen((void *)text, len, "r");
+    int rc = psim_scene_read_stream(f, "t.in", sc, err);
+    fclose(f);
+    return rc;
+}
+
+static int same_scene(const psim_scene *a, const psim_scene *b)
+{
+    size_t d = (size_t)a->n * sizeof(double);
+    return a->n == b->n && a->L == b->L && a->r == b->r && a->steps == b->steps &&
+           a->format == b->format && a->print == b->print && a->generated == b->generated &&
+           memcmp(a->x, b->x, d) == 0 && memcmp(a->y, b->y, d) == 0 &&
+           memcmp(a->vx, b->vx, d) == 0 && memcmp(a->vy, b->vy, d) == 0 &&
+           memcmp(a->line, b->line, (size_t)a->n * sizeof(long)) == 0;
+}
+
+static long both_ways_runs;
+
+/* The same scene, or the same error message, from the block reader (blocks
+ * of 16 kB and more, pieces from 512 bytes, 1 to 3 threads) as from the
+ * line-by-line reader (PSIM_SLOW_IO=1). */
+static void same_both_ways(const char *text, size_t len, const char *what)
+{
+    psim_scene ref;
+    psim_error eref = {{0}, 0};
+    setenv("PSIM_SLOW_IO", "1", 1);
+    int rref = read_mem(text, len, &ref, &eref);
+    unsetenv("PSIM_SLOW_IO");
+    static const size_t blocks[][2] = {{0, 0}, {16384, 512}, {20011, 4096}, {65536, 1}};
+    for (size_t b = 0; b < sizeof blocks / sizeof blocks[0]; b++)
+        for (int t = 1; t <= 3; t++) {
+            omp_set_num_threads(t);
+            psim_io_set_blocks(blocks[b][0], blocks[b][1]);
+            psim_scene sc;
+            psim_error e = {{0}, 0};
+            int r = read_mem(text, len, &sc, &e);
+            both_ways_runs++;
+            CHECK_MSG(r == rref, "%s: rc %d, line by line %d (%s)", what, r, rref,
+                      r ? e.msg : eref.msg);
+            if (r == 0 && rref == 0) {
+                CHECK_MSG(same_scene(&sc, &ref), "%s: another scene (block %zu, %d threads)",
+                          what, blocks[b][0], t);
+                psim_scene_free(&sc);
+            } else if (r && rref) {
+                CHECK_MSG(strcmp(e.msg, eref.msg) == 0, "%s: '%s', line by line '%s'", what,
+                          e.msg, eref.msg);
+            } else if (r == 0) {
+                psim_scene_free(&sc);
+            }
+        }
+    psim_io_set_blocks(0, 0);
+    omp_set_num_threads(2);
+    if (rref == 0)
+        psim_scene_free(&ref);
+}
+
+/* text lines of a scene (header and particle lines) */
+typedef struct lines {
+    char **l;
+    long n;
+} lines;
+
+static lines split_lines(char *text)
+{
+    lines L = {NULL, 0};
+    long cap = 0;
+    for (char *p = text; *p;) {
+        char *nl = strchr(p, '\n');
+        if (L.n == cap)
+            L.l = realloc(L.l, (size_t)(cap = cap ? 2 * cap : 1024) * sizeof *L.l);
+        L.l[L.n++] = strndup(p, nl ? (size_t)(nl - p) : strlen(p));
+        p = nl ? nl + 1 : p + strlen(p);
+    }
+    return L;
+}
+
+/* lines joined with `eol`, without it after the last one if `last` is 0;
+ * *len is the length (the text may hold NUL bytes) */
+static char *join(const lines *L, const char *eol, int last, size_t *len)
+{
+    size_t cap = 16, n = 0;
+    for (long i = 0; i < L->n; i++)
+        cap += strlen(L->l[i]) + 8;
+    char *t = malloc(cap);
+    for (long i = 0; i < L->n; i++) {
+        size_t k = strlen(L->l[i]);
+        memcpy(t + n, L->l[i], k);
+        n += k;
+        if (i + 1 < L->n || last) {
+            memcpy(t + n, eol, strlen(eol));
+            n += strlen(eol);
+        }
+    }
+    t[n] = '\0';
+    *len = n;
+    return t;
+}
+
+static void free_lines(lines *L)
+{
+    for (long i = 0; i < L->n; i++)
+        free(L->l[i]);
+    free(L->l);
+}
+
+/* one line replaced (a copy of L) */
+static void with_line(const lines *L, long at, const char *line, const char *what)
+{
+    lines M = {malloc((size_t)L->n * sizeof(char *)), L->n};
+    for (long i = 0; i < L->n; i++)
+        M.l[i] = (char *)(i == at ? line : L->l[i]);
+    size_t len;
+    char *t = join(&M, "\n", 1, &len);
+    char label[160];
+    snprintf(label, sizeof label, "%s at line %ld", what, at + 1);
+    same_both_ways(t, len, label);
+    free(t);
+    free(M.l);
+}
+
+static void test_block_reader(void)
+{
+    psim_gen_params p = {.n = 3000, .L = 300, .r = 1, .steps = 5, .vmin = -1, .vmax = 1,
+                         .seed = 7, .place = PSIM_PLACE_UNIFORM};
+    psim_scene a;
+    psim_error err = {{0}, 0};
+    CHECK(psim_scene_generate(&p, &a, &err) == 0);
+    char *text = NULL;
+    size_t len = 0;
+    FILE *f = open_memstream(&text, &len);
+    CHECK(psim_scene_write(f, &a) == 0);
+    fclose(f);
+    psim_scene_free(&a);
+    same_both_ways(text, len, "a generated scene");
+    lines L = split_lines(text);
+    size_t tl;
+    char *t;
+    /* other line ends, separators, blank lines, a last line without newline */
+    t = join(&L, "\r\n", 1, &tl), same_both_ways(t, tl, "CR LF"), free(t);
+    t = join(&L, "\n", 0, &tl), same_both_ways(t, tl, "no last newline"), free(t);
+    t = join(&L, "\r", 0, &tl), same_both_ways(t, tl, "CR only"), free(t);
+    t = join(&L, "\n \t\n", 1, &tl), same_both_ways(t, tl, "blank lines"), free(t);
+    t = join(&L, " \t\r\n\n", 0, &tl), same_both_ways(t, tl, "trailing space"), free(t);
+    /* reversed particle lines (ids in any order) */
+    lines R = {malloc((size_t)L.n * sizeof(char *)), L.n};
+    for (long i = 0; i < L.n; i++)
+        R.l[i] = L.l[i < 4 ? i : L.n - 1 - (i - 4)];
+    t = join(&R, "\n", 1, &tl), same_both_ways(t, tl, "reversed"), free(t);
+    free(R.l);
+    /* one line changed, at the first particle line, in the middle, near
+     * the end and at the last */
+    const long at[] = {4, 5, 1100, L.n / 2, L.n - 2, L.n - 1};
+    static const char *bad[] = {
+        "0 1 1 0 0",                 /* a duplicate of id 0 (or the same line) */
+        "2999 1 1 0 0",              /* a duplicate of the last id */
+        "3000 1 1 0 0", "-1 1 1 0 0", "+5 1 1 0 0", "0005 1 1 0 0", "5 1.2.3 1 0 0",
+        "5 nan 1 0 0", "5 1 inf 0 0", "5 1 1 1e999 0", "5 0x1p3 1 0 0", "5 1 1 0",
+        "5 1 1 0 0 0", "5\t1\t1\t0\t0", "  5  1 1 0 0  ", "5 1\r1 0 0", "5 1 1 0 0\v",
+        "5 1e-30 1e+2 .5 5.", "5 1.00000000000000000000000001 1 0 0",
+        "5 123456789012345678901234 1 0 0", "x", "", "5 1 1 0 -", "5 1e 1 0 0",
+        "99999999999999999999 1 1 0 0"};
+    for (size_t k = 0; k < sizeof at / sizeof at[0]; k++)
+        for (size_t b = 0; b < sizeof bad / sizeof bad[0]; b++)
+            with_line(&L, at[k], bad[b], bad[b]);
+    /* a line longer than 4096 bytes, a NUL byte */
+    char *longl = malloc(5001);
+    memset(longl, ' ', 5000);
+    longl[0] = '7', longl[4999] = '0', longl[5000] = '\0';
+    with_line(&L, 2000, longl, "a long line");
+    free(longl);
+    t = join(&L, "\n", 1, &tl);
+    t[tl / 2] = '\0';
+    same_both_ways(t, tl, "a NUL byte");
+    /* fewer and more lines than N */
+    L.n--;
+    t = join(&L, "\n", 1, &tl), same_both_ways(t, tl, "a line short"), free(t);
+    L.n++;
+    lines M = {malloc((size_t)(L.n + 1) * sizeof(char *)), L.n + 1};
+    memcpy(M.l, L.l, (size_t)L.n * sizeof(char *));
+    M.l[L.n] = "3000 1 1 0 0";
+    t = join(&M, "\n", 1, &tl), same_both_ways(t, tl, "a line more"), free(t);
+    free(M.l);
+    /* the 2019 format with its particle lines */
+    lines P = {malloc((size_t)(L.n + 1) * sizeof(char *)), L.n + 1};
+    memcpy(P.l, L.l, 4 * sizeof(char *));
+    P.l[4] = "print";
+    memcpy(P.l + 5, L.l + 4, (size_t)(L.n - 4) * sizeof(char *));
+    t = join(&P, "\n", 1, &tl), same_both_ways(t, tl, "2019 print"), free(t);
+    free(P.l);
+    free_lines(&L);
+    free(text);
+}
+
 int main(void)
 {
     test_read_ok();
     test_read_errors();
     test_generate_roundtrip();
+    test_block_reader();
+    printf("%ld reads compared with the line-by-line reader\n", both_ways_runs);
     return check_done();
 }
