@@ -96,6 +96,15 @@ void thermo_init(cli_thermo *t, long every, double L);
 int thermo_start(cli_thermo *t, psim_sim *s, FILE *table, FILE *csv);
 int thermo_step(cli_thermo *t, psim_sim *s, long k, long steps);
 
+/* The same bar for one read or write that takes more than a second
+ * (psim_set_io_progress): "[####  ] reading s.in: 412/850 MB, 2.1 s
+ * left", on a terminal only, nothing under -q; cli_io_end clears it. */
+void cli_io_begin(const char *verb, const char *name, int quiet);
+void cli_io_end(void);
+
+/* The process's peak resident memory in bytes (VmHWM; 0 if unknown). */
+long long cli_peak_rss(void);
+
 /* Pinning options shared by the run and plan commands. */
 enum { CLI_OPT_PIN = 1000, CLI_OPT_TOPOLOGY, CLI_OPT_MEM, CLI_OPT_DRY_RUN };
 

@@ -114,7 +114,9 @@ int cli_gen(int argc, char **argv)
     outfile o;
     int rc = 1;
     if (outfile_open(&o, out ? out : "-") == 0) {
+        cli_io_begin("writing", o.name, 0);
         psim_scene_write(o.f, &sc); /* a failed write shows in the commit */
+        cli_io_end();
         if (outfile_commit(&o) == 0)
             rc = 0;
     }

@@ -26,6 +26,9 @@ typedef struct run_opts {
     char label[96];         /* the scene, for messages */
     int check, quiet, report;
     cli_pin pin;
+    struct stat scene_st;   /* the scene file when it was read */
+    int scene_st_ok;
+    double read_s;          /* reading (or making) the scene */
 } run_opts;
 
 static void run_usage(FILE *f)
@@ -359,9 +362,43 @@ static int load_scene(run_opts *o, psim_scene *sc, psim_error *err)
     snprintf(o->label, sizeof o->label, "%s", o->scene ? o->scene : "default scene");
     if (!o->scene)
         return default_scene(sc, err);
-    if (strcmp(o->scene, "-") == 0)
-        return psim_scene_read_stream(stdin, "<stdin>", sc, err);
-    return psim_scene_read(o->scene, sc, err);
+    int rc;
+    if (strcmp(o->scene, "-") == 0) {
+        cli_io_begin("reading", "<stdin>", o->quiet);
+        rc = psim_scene_read_stream(stdin, "<stdin>", sc, err);
+    } else {
+        o->scene_st_ok = stat(o->scene, &o->scene_st) == 0;
+        cli_io_begin("reading", o->scene, o->quiet);
+        rc = psim_scene_read(o->scene, sc, err);
+    }
+    cli_io_end();
+    return rc;
+}
+
+/* The scene again, for a second run (first_nonfinite) after its arrays
+ * were freed: made again, or read again from a file that has not changed
+ * since (the same device, inode, size and modification time); -1 when it
+ * cannot be. */
+static int reload_scene(const run_opts *o, psim_scene *sc)
+{
+    psim_error e = {{0}, 0};
+    int rc;
+    struct stat st;
+    if (o->n >= 0)
+        rc = psim_generate_scene(o->model, o->n, o->seed, sc, &e);
+    else if (!o->scene)
+        rc = default_scene(sc, &e);
+    else if (!o->scene_st_ok || !strcmp(o->scene, "-") || stat(o->scene, &st) ||
+             st.st_dev != o->scene_st.st_dev || st.st_ino != o->scene_st.st_ino ||
+             st.st_size != o->scene_st.st_size ||
+             st.st_mtim.tv_sec != o->scene_st.st_mtim.tv_sec ||
+             st.st_mtim.tv_nsec != o->scene_st.st_mtim.tv_nsec)
+        return -1;
+    else
+        rc = psim_scene_read(o->scene, sc, &e);
+    if (rc == 0)
+        psim_scene_substeps(sc, o->substeps);
+    return rc;
 }
 
 typedef struct run_state {
@@ -372,18 +409,22 @@ typedef struct run_state {
     int print;          /* the model's output holds every step */
 } run_state;
 
-static int write_out(psim_sim *s, FILE *f, long step, int final, long digits)
+static int write_out(const run_opts *o, psim_sim *s, const outfile *of, long step, int final)
 {
     double t0 = psim_now();
-    int rc = psim_write_output(s, f, step, final, (int)digits);
+    cli_io_begin("writing", of->name, o->quiet);
+    int rc = psim_write_output(s, of->f, step, final, (int)o->digits);
+    cli_io_end();
     psim_add_output_time(s, psim_now() - t0);
     return rc;
 }
 
-static int write_trace(psim_sim *s, FILE *f, long step, long digits)
+static int write_trace(const run_opts *o, psim_sim *s, const outfile *of, long step)
 {
     double t0 = psim_now();
-    int rc = psim_write_trace(s, f, step, (int)digits);
+    cli_io_begin("writing", of->name, o->quiet);
+    int rc = psim_write_trace(s, of->f, step, (int)o->digits);
+    cli_io_end();
     psim_add_output_time(s, psim_now() - t0);
     return rc;
 }
@@ -487,11 +528,11 @@ static int write_step(const run_opts *o, psim_sim *s, long k, long steps, run_st
         set_write_failed(err, o->dump);
         return -1;
     }
-    if (rs->trace.f && write_trace(s, rs->trace.f, k, o->digits)) {
+    if (rs->trace.f && write_trace(o, s, &rs->trace, k)) {
         set_write_failed(err, o->trace);
         return -1;
     }
-    if (rs->out.f && out_due(rs, k, steps) && write_out(s, rs->out.f, k, 0, o->digits)) {
+    if (rs->out.f && out_due(rs, k, steps) && write_out(o, s, &rs->out, k, 0)) {
         set_write_failed(err, rs->out.name);
         return -1;
     }
@@ -503,12 +544,19 @@ static int write_step(const run_opts *o, psim_sim *s, long k, long steps, run_st
  * step `checked` (finite).  The run is deterministic, so a second engine
  * from the same scene and configuration steps to `checked` and checks
  * every step after it (this costs at most the steps run so far, and only
- * when a run fails).  err: the first bad step and disk, or unchanged when
- * the second run cannot say. */
-static void first_nonfinite(const psim_scene *sc, const psim_config *cfg, long checked,
-                            long seen, psim_error *err)
+ * when a run fails); the scene's arrays having been freed, it makes or
+ * reads the scene again.  err: the first bad step and disk, or unchanged
+ * when the second run cannot say. */
+static void first_nonfinite(const run_opts *o, const psim_scene *sc, const psim_config *cfg,
+                            long checked, long seen, psim_error *err)
 {
     psim_error e2 = {{0}, 0};
+    psim_scene again = {0};
+    if (!sc->x) {
+        if (reload_scene(o, &again))
+            return;
+        sc = &again;
+    }
     psim_sim *s2 = psim_create(sc, cfg, &e2);
     for (long k = 1; s2 && k < seen; k++) {
         if (psim_step(s2, &e2))
@@ -519,18 +567,19 @@ static void first_nonfinite(const psim_scene *sc, const psim_config *cfg, long c
         }
     }
     psim_destroy(s2);
+    psim_scene_free(&again);
 }
 
 /* The state is finite (0), or err names the disk that is not, at the
  * first step it was not (found again when the step before was not
  * checked). */
-static int finite_since(const psim_sim *s, const psim_scene *sc, const psim_config *cfg,
-                        long checked, psim_error *err)
+static int finite_since(const run_opts *o, const psim_sim *s, const psim_scene *sc,
+                        const psim_config *cfg, long checked, psim_error *err)
 {
     if (psim_state_finite(s, err) == 0)
         return 0;
     if (psim_step_index(s) - checked > 1)
-        first_nonfinite(sc, cfg, checked, psim_step_index(s), err);
+        first_nonfinite(o, sc, cfg, checked, psim_step_index(s), err);
     return -1;
 }
 
@@ -550,7 +599,7 @@ static int simulate(const run_opts *o, psim_sim *s, const psim_scene *sc,
         rc = -1;
     }
     if (rs->out.f && (psim_write_header(s, rs->out.f) ||
-                      (rs->style.initial && write_out(s, rs->out.f, 0, 0, o->digits)))) {
+                      (rs->style.initial && write_out(o, s, &rs->out, 0, 0)))) {
         set_write_failed(err, rs->out.name);
         rc = -1;
     }
@@ -577,7 +626,7 @@ static int simulate(const run_opts *o, psim_sim *s, const psim_scene *sc,
         if (!cfg->check &&
             (each || k == steps || (every ? k % every == 0 : 0.01 * steps_s >= check_s))) {
             double t1 = psim_now();
-            if (finite_since(s, sc, cfg, checked, err)) {
+            if (finite_since(o, s, sc, cfg, checked, err)) {
                 rc = -1;
                 break;
             }
@@ -623,10 +672,15 @@ int cli_run(int argc, char **argv)
         }
         goto done;
     }
+    /* the scene is read with the threads asked for (all by default) */
+    if (o.threads)
+        omp_set_num_threads((int)o.threads);
+    double t_read = psim_now();
     if (load_scene(&o, &sc, &err)) {
         fprintf(stderr, "psim: %s\n", err.msg);
         goto done;
     }
+    o.read_s = psim_now() - t_read;
     psim_scene_substeps(&sc, o.substeps);
     long steps = o.steps >= 0 ? o.steps * o.substeps : sc.steps;
     /* pinned before the engine allocates, so first touch lands on the
@@ -647,6 +701,13 @@ int cli_run(int argc, char **argv)
         rc = err.usage ? 2 : 1;
         goto done;
     }
+    /* The engine holds the particles now: the scene's arrays (and their
+     * line numbers) go, where 40 bytes a particle would stay beside the
+     * engine's store to the end; a second run that looks for the first
+     * non-finite step makes or reads the scene again.  A scene from
+     * standard input, which cannot be read twice, stays. */
+    if (!o.scene || strcmp(o.scene, "-") != 0)
+        psim_scene_free(&sc);
     rs.style = psim_get_output_style(s);
     rs.print = rs.style.every_step && sc.print;
     thermo_init(&rs.th, o.thermo, sc.L);
@@ -662,12 +723,12 @@ int cli_run(int argc, char **argv)
      * course's own figure, for the source's summary, includes them) */
     double loop_s = psim_now() - t0;
     double secs = loop_s - psim_get_stats(s)->phase_s[PSIM_PHASE_OUTPUT];
-    if (rs.out.f && rs.style.final && write_out(s, rs.out.f, steps, 1, o.digits)) {
+    if (rs.out.f && rs.style.final && write_out(&o, s, &rs.out, steps, 1)) {
         set_write_failed(&err, rs.out.name);
         fprintf(stderr, "psim: %s\n", err.msg);
         goto done;
     }
-    if (rs.final.f && write_trace(s, rs.final.f, steps, o.digits)) {
+    if (rs.final.f && write_trace(&o, s, &rs.final, steps)) {
         set_write_failed(&err, rs.final.name);
         fprintf(stderr, "psim: %s\n", err.msg);
         goto done;
@@ -677,7 +738,9 @@ int cli_run(int argc, char **argv)
     if (rs.stats.f) {
         char *pin_json = cli_pin_json(&o.pin), *thr_json = cli_threads_json(s, &o.pin);
         char *extra = NULL;
-        if (pin_json && thr_json && asprintf(&extra, "%s,\n%s\n", pin_json, thr_json) < 0)
+        if (pin_json && thr_json &&
+            asprintf(&extra, "  \"read_s\": %.6f,\n  \"peak_rss_bytes\": %lld,\n%s,\n%s\n",
+                     o.read_s, cli_peak_rss(), pin_json, thr_json) < 0)
             extra = NULL;
         psim_write_stats_json(rs.stats.f, s,
                               o.scene ? o.scene : o.n >= 0 ? o.label : "default", secs, extra);

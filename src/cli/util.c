@@ -4,6 +4,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -331,6 +332,81 @@ void progress_done(progress *p)
 {
     if (p->shown)
         fprintf(stderr, "\r%*s\r", 70, "");
+}
+
+/* One read or write at a time: its bar, label and how wide it was drawn. */
+static struct {
+    progress pb;
+    char what[200];
+    int on, width;
+} io;
+
+static void io_show(void *ctx, int writing, long long done, long long total)
+{
+    (void)ctx;
+    progress *p = &io.pb;
+    if (!io.on || !p->enabled)
+        return;
+    double now = psim_now();
+    if (now - p->start < 1.0 || now - p->last < 0.1)
+        return;
+    p->last = now;
+    p->shown = 1;
+    int width = 30, fill = total > 0 ? (int)(width * ((double)done / (double)total)) : 0;
+    fill = fill < 0 ? 0 : fill > width ? width : fill;
+    double eta = total > 0 && done > 0 ? (now - p->start) * (double)(total - done) / (double)done : 0;
+    char count[64];
+    if (writing)
+        snprintf(count, sizeof count, "%.1f/%.1f M lines", done / 1e6, total / 1e6);
+    else if (total > 0)
+        snprintf(count, sizeof count, "%.0f/%.0f MB", done / 1e6, total / 1e6);
+    else
+        snprintf(count, sizeof count, "%.0f MB", done / 1e6);
+    char left[32] = "";
+    if (total > 0)
+        snprintf(left, sizeof left, ", %.1f s left", eta);
+    int w = fprintf(stderr, "\r[%.*s%*s] %s: %s%s ", fill, "##############################",
+                    width - fill, "", io.what, count, left);
+    if (w > io.width)
+        io.width = w;
+    fflush(stderr);
+}
+
+void cli_io_begin(const char *verb, const char *name, int quiet)
+{
+    progress_init(&io.pb, 0, quiet);
+    snprintf(io.what, sizeof io.what, "%s %s", verb, name);
+    io.on = 1;
+    io.width = 0;
+    psim_set_io_progress(io_show, NULL);
+}
+
+void cli_io_end(void)
+{
+    if (io.pb.shown)
+        fprintf(stderr, "\r%*s\r", io.width, "");
+    io.on = 0;
+    io.pb.shown = 0;
+    psim_set_io_progress(NULL, NULL);
+}
+
+long long cli_peak_rss(void)
+{
+    FILE *f = fopen("/proc/self/status", "r");
+    long long kb = 0;
+    if (f) {
+        char line[256];
+        while (fgets(line, sizeof line, f))
+            if (sscanf(line, "VmHWM: %lld kB", &kb) == 1)
+                break;
+        fclose(f);
+    }
+    if (kb <= 0) {
+        struct rusage ru;
+        if (getrusage(RUSAGE_SELF, &ru) == 0)
+            kb = ru.ru_maxrss;   /* kilobytes on Linux */
+    }
+    return kb * 1024;
 }
 
 /* psim --version (and every subcommand's): the release, the git commit

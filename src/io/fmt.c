@@ -103,21 +103,38 @@ int psim_fmt_general_ref(char *buf, double v, int prec)
 
 /* ---- integers ------------------------------------------------------------- */
 
+/* Exactly 8 digits of v < 10^8 at p: two independent halves. */
+static inline void put8(char *p, uint32_t v)
+{
+    uint32_t a = v / 10000, b = v % 10000;
+    memcpy(p, DIGITS2 + 2 * (a / 100), 2);
+    memcpy(p + 2, DIGITS2 + 2 * (a % 100), 2);
+    memcpy(p + 4, DIGITS2 + 2 * (b / 100), 2);
+    memcpy(p + 6, DIGITS2 + 2 * (b % 100), 2);
+}
+
 /* The decimal digits of v, right-aligned to end at `end`; returns their
  * start (at least one digit). */
 static char *digits_back(char *end, uint64_t v)
 {
-    while (v >= 100) {
-        uint64_t r = v % 100;
-        v /= 100;
+    while (v >= 100000000) {
+        uint64_t q = v / 100000000;
+        end -= 8;
+        put8(end, (uint32_t)(v - q * 100000000));
+        v = q;
+    }
+    uint32_t w = (uint32_t)v;
+    while (w >= 100) {
+        uint32_t r = w % 100;
+        w /= 100;
         end -= 2;
         memcpy(end, DIGITS2 + 2 * r, 2);
     }
-    if (v >= 10) {
+    if (w >= 10) {
         end -= 2;
-        memcpy(end, DIGITS2 + 2 * v, 2);
+        memcpy(end, DIGITS2 + 2 * w, 2);
     } else {
-        *--end = (char)('0' + v);
+        *--end = (char)('0' + w);
     }
     return end;
 }
@@ -208,7 +225,7 @@ static int scale17(double a, dec17 *d)
     }
     int s = -f.e;
     /* floor(log10 a), or one off: corrected below */
-    int E = (int)floor((double)(f.e + 52) * 0.30102999566398120);
+    int E = (int)(((int64_t)(f.e + 52) * 78913) >> 18);
     for (int tries = 0; tries < 3; tries++) {
         int k = 16 - E;
         if (k > 22 || k < 0 || s > 120)
