@@ -96,9 +96,10 @@ void thermo_init(cli_thermo *t, long every, double L);
 int thermo_start(cli_thermo *t, psim_sim *s, FILE *table, FILE *csv);
 int thermo_step(cli_thermo *t, psim_sim *s, long k, long steps);
 
-/* The same bar for one read or write that takes more than a second
- * (psim_set_io_progress): "[####  ] reading s.in: 412/850 MB, 2.1 s
- * left", on a terminal only, nothing under -q; cli_io_end clears it. */
+/* The same progress for one read or write that takes more than a second
+ * (psim_set_io_progress): on a terminal the bar, "[####  ] reading s.in:
+ * 412/850 MB, 2.1 s left", cleared by cli_io_end; elsewhere a line every
+ * PROGRESS_LINE_S seconds; nothing under -q. */
 void cli_io_begin(const char *verb, const char *name, int quiet);
 void cli_io_end(void);
 

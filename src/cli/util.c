@@ -347,24 +347,37 @@ static void io_show(void *ctx, int writing, long long done, long long total)
     progress *p = &io.pb;
     if (!io.on || !p->enabled)
         return;
+    /* when and how often, as progress_update: a bar on a terminal after
+     * 1 s, elsewhere a line every PROGRESS_LINE_S seconds */
     double now = psim_now();
-    if (now - p->start < 1.0 || now - p->last < 0.1)
+    double delay = p->every >= 0 ? p->every : 1.0,
+           gap = p->every >= 0 ? p->every : p->tty ? 0.1 : PROGRESS_LINE_S;
+    if (now - p->start < delay || now - p->last < gap)
         return;
     p->last = now;
-    p->shown = 1;
-    int width = 30, fill = total > 0 ? (int)(width * ((double)done / (double)total)) : 0;
-    fill = fill < 0 ? 0 : fill > width ? width : fill;
-    double eta = total > 0 && done > 0 ? (now - p->start) * (double)(total - done) / (double)done : 0;
+    double frac = total > 0 ? (double)done / (double)total : 0;
+    double eta = total > 0 && done > 0 ? (now - p->start) * (1 - frac) / frac : 0;
+    /* lines, or millions of them; bytes in MB (kB below 10 MB) */
     char count[64];
-    if (writing)
-        snprintf(count, sizeof count, "%.1f/%.1f M lines", done / 1e6, total / 1e6);
-    else if (total > 0)
-        snprintf(count, sizeof count, "%.0f/%.0f MB", done / 1e6, total / 1e6);
+    double u = writing ? (total >= 1000000 ? 1e6 : 1) : (total >= 0 && total < 10000000 ? 1e3 : 1e6);
+    const char *unit = writing ? (u > 1 ? " M lines" : " lines") : (u < 1e6 ? " kB" : " MB");
+    int dec = writing && u > 1 ? 1 : 0;
+    if (total >= 0)
+        snprintf(count, sizeof count, "%.*f/%.*f%s", dec, (double)done / u, dec,
+                 (double)total / u, unit);
     else
-        snprintf(count, sizeof count, "%.0f MB", done / 1e6);
-    char left[32] = "";
+        snprintf(count, sizeof count, "%.*f%s", dec, (double)done / u, unit);
+    char left[40] = "";
     if (total > 0)
-        snprintf(left, sizeof left, ", %.1f s left", eta);
+        snprintf(left, sizeof left, p->tty ? ", %.1f s left" : ", about %.0f s left", eta);
+    if (!p->tty) {
+        fprintf(stderr, "psim: %s: %s (%.0f%%), %.0f s so far%s\n", io.what, count,
+                100 * frac, now - p->start, left);
+        return;
+    }
+    p->shown = 1;
+    int width = 30, fill = (int)(width * frac);
+    fill = fill < 0 ? 0 : fill > width ? width : fill;
     int w = fprintf(stderr, "\r[%.*s%*s] %s: %s%s ", fill, "##############################",
                     width - fill, "", io.what, count, left);
     if (w > io.width)
