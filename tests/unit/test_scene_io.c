@@ -286,6 +286,7 @@ static void test_block_reader(void)
     t = join(&L, "\n", 1, &tl);
     t[tl / 2] = '\0';
     same_both_ways(t, tl, "a NUL byte");
+    free(t);
     /* fewer and more lines than N */
     L.n--;
     t = join(&L, "\n", 1, &tl), same_both_ways(t, tl, "a line short"), free(t);
