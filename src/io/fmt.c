@@ -489,16 +489,45 @@ static uint64_t div128(uint64_t hi, uint64_t lo, uint64_t d, uint64_t *r)
 
 static inline int is_digit(char c) { return (unsigned)(c - '0') < 10u; }
 
-const char *psim_scan_double(const char *s, double *out)
+/* The eight bytes at p as eight decimal digits (1), or 0 when they are
+ * not all digits (SWAR: a byte is a digit when its high nibble is 3 and
+ * adding 6 leaves it 3). */
+static inline int eight_digits(const char *p, uint64_t *v)
 {
+    uint64_t w;
+    memcpy(&w, p, sizeof w);
+    if (((w & 0xF0F0F0F0F0F0F0F0ull) | (((w + 0x0606060606060606ull) & 0xF0F0F0F0F0F0F0F0ull) >> 4)) !=
+        0x3333333333333333ull)
+        return 0;
+    /* digit values d0..d7, d0 (the first, most significant) in the lowest
+     * byte; pairs d0 d1 -> 10 d0 + d1 in 16-bit lanes, then 100 a + b in
+     * 32-bit lanes, then 10000 a + b */
+    w -= 0x3030303030303030ull;
+    w = (w & 0x00FF00FF00FF00FFull) * 10 + ((w >> 8) & 0x00FF00FF00FF00FFull);
+    w = (w & 0x0000FFFF0000FFFFull) * 100 + ((w >> 16) & 0x0000FFFF0000FFFFull);
+    w = (w & 0xFFFFFFFFull) * 10000 + (w >> 32);
+    *v = w;
+    return 1;
+}
+
+/* psim_scan_double, and with `padded` the reader's variant that may read
+ * up to 8 bytes past the number (its buffer has room there). */
+static inline const char *scan(const char *s, double *out, int padded)
+{
+#if !defined(__BYTE_ORDER__) || __BYTE_ORDER__ != __ORDER_LITTLE_ENDIAN__
+    padded = 0;   /* eight_digits reads the text as a little-endian word */
+#endif
     const char *p = s;
     int neg = 0;
     if (*p == '-' || *p == '+')
         neg = *p++ == '-';
-    uint64_t D = 0;
+    uint64_t D = 0, v8;
     int nd = 0, x = 0, any = 0;
     while (*p == '0')
         p++, any = 1;
+    if (padded)
+        while (nd <= 11 && eight_digits(p, &v8))
+            D = D * 100000000 + v8, nd += 8, p += 8, any = 1;
     for (; is_digit(*p); p++, any = 1)
         if (nd++ < 19)
             D = D * 10 + (uint64_t)(*p - '0');
@@ -509,6 +538,9 @@ const char *psim_scan_double(const char *s, double *out)
         if (nd == 0)
             for (; *p == '0'; p++)
                 x--, any = 1;
+        if (padded)
+            while (nd <= 11 && eight_digits(p, &v8))
+                D = D * 100000000 + v8, nd += 8, x -= 8, p += 8, any = 1;
         for (; is_digit(*p); p++, any = 1)
             if (nd++ < 19)
                 D = D * 10 + (uint64_t)(*p - '0'), x--;
@@ -576,6 +608,10 @@ const char *psim_scan_double(const char *s, double *out)
     return p;
 }
 
+const char *psim_scan_double(const char *s, double *out) { return scan(s, out, 0); }
+
+const char *psim_scan_double_padded(const char *s, double *out) { return scan(s, out, 1); }
+
 #else /* no 128-bit integers: the C library throughout */
 
 int psim_fmt_shortest(char *buf, double v) { return psim_fmt_shortest_ref(buf, v); }
@@ -595,6 +631,11 @@ const char *psim_scan_double(const char *s, double *out)
     char *end;
     *out = strtod(s, &end);
     return end;
+}
+
+const char *psim_scan_double_padded(const char *s, double *out)
+{
+    return psim_scan_double(s, out);
 }
 
 #endif

@@ -45,6 +45,9 @@ char *psim_fmt_long(char *p, long long v);
  * anything else not of that form give NULL): its value, as strtod reads
  * it, in *out, and the end of the number. */
 const char *psim_scan_double(const char *s, double *out);
+/* The same, reading digits eight at a time: the 8 bytes after the number
+ * must be readable (the scene reader's buffer has room there). */
+const char *psim_scan_double_padded(const char *s, double *out);
 
 /* Tests: the scene reader's block size and smallest piece per thread
  * (0: the defaults, 8 MiB and 64 KiB). */

@@ -51,6 +51,10 @@ typedef struct reader {
     size_t cap;          /* chunk's size (block_bytes) */
 } reader;
 
+/* Zero bytes kept after the data read (a NUL, and 8 bytes that
+ * psim_scan_double_padded may read past a number). */
+#define PAD 16
+
 /* Bytes read at a time (blocks of particle lines are parsed in parallel,
  * one piece per thread of at least piece_min bytes); tests make them
  * small (psim_io_set_blocks). */
@@ -83,7 +87,8 @@ static size_t refill(reader *rd)
     rd->pos = 0;
     size_t got = fread(rd->chunk + rd->end, 1, rd->cap - rd->end, rd->f);
     rd->end += got;
-    rd->chunk[rd->end] = '\0';
+    memset(rd->chunk + rd->end, 0, PAD);   /* a NUL after the data, and room
+                                            * for psim_scan_double_padded */
     if (got == 0)
         rd->eof = 1;
     return rd->end;
@@ -95,7 +100,7 @@ static long read_line(reader *rd)
 {
     if (!rd->buf) {
         rd->buf = malloc(MAX_LINE + 1);
-        rd->chunk = malloc(rd->cap + 1);
+        rd->chunk = malloc(rd->cap + PAD);
         if (!rd->buf || !rd->chunk) {
             psim_error_set(rd->err, "%s: out of memory", rd->name);
             return -2;
@@ -370,7 +375,7 @@ static int parse_piece(const block_job *j, const char *p, const char *b, long li
                 return -1;
             while (sep(*p))
                 p++;
-            p = psim_scan_double(p, &v[f]);
+            p = psim_scan_double_padded(p, &v[f]);
             if (!p || !field_end(p, lim) || !isfinite(v[f]))
                 return -1;
         }

@@ -77,21 +77,30 @@ static void all(double v)
     writers(-v, (int)(next() % 23), (int)(next() % 18));
 }
 
-/* the reader on text: the same value and end as strtod */
+/* the reader on text: the same value and end as strtod, also for the
+ * variant that reads past the number (digits there, after a NUL) */
 static void reads(const char *text)
 {
     char *end;
     double want = strtod(text, &end);
-    double got;
-    const char *e = psim_scan_double(text, &got);
-    check_count++;
-    if (!e)
-        return;   /* not a plain decimal: the caller asks strtod */
-    if (e != end || memcmp(&got, &want, sizeof got) != 0) {
-        check_failures++;
-        if (failures++ < 20)
-            fprintf(stderr, "scan('%s'): got %a (end +%ld), want %a (end +%ld)\n", text, got,
-                    (long)(e - text), want, (long)(end - text));
+    char padded[PSIM_FMT_MAX + 32];
+    size_t len = strlen(text);
+    memcpy(padded, text, len + 1);
+    memset(padded + len + 1, '7', 16);
+    for (int pad = 0; pad < 2; pad++) {
+        double got;
+        const char *s = pad ? padded : text;
+        const char *e = pad ? psim_scan_double_padded(s, &got) : psim_scan_double(s, &got);
+        check_count++;
+        if (!e)
+            continue;   /* not a plain decimal: the caller asks strtod */
+        if (e - s != end - text || memcmp(&got, &want, sizeof got) != 0) {
+            check_failures++;
+            if (failures++ < 20)
+                fprintf(stderr, "scan%s('%s'): got %a (end +%ld), want %a (end +%ld)\n",
+                        pad ? "_padded" : "", text, got, (long)(e - s), want,
+                        (long)(end - text));
+        }
     }
 }
 
