@@ -22,7 +22,7 @@
 #   final    psim -q --steps 0 --final OUT SCENE         MB/s of OUT over
 #            phases_s.output of --stats (the writing alone)
 # and every output is compared with cmp between the builds first.
-# Memory: per model, psim -q --model M --steps 5 --final OUT on 1e6 disks
+# Memory: per model, psim -q --model M --steps 5 --out O --final F on 1e6 disks
 # on a jittered lattice at density 0.5 (the event model needs no overlaps),
 # peak resident memory (/usr/bin/time's %M, the kernel's maximum RSS) per
 # particle.
@@ -111,7 +111,10 @@ for N in $sizes; do
             wr) label="write --final ($((fbytes / 1000000)) MB)" bytes=$fbytes ;;
         esac
         extra=""
-        [ $what = rd ] && extra=" (read_s $(median <"$tmp/rs_new") s: $(mb "$bytes" "$(median <"$tmp/rs_new")") MB/s)"
+        if [ $what = rd ]; then
+            r=$(median <"$tmp/rs_new")
+            extra=$(printf ' (read_s %.2f s: %s MB/s)' "$r" "$(mb "$bytes" "$r")")
+        fi
         printf '| %s | %s | %.2f s | %.2f s | %s | %s%s | %.1fx |\n' "$N" "$label" "$o" "$w" \
             "$(mb "$bytes" "$o")" "$(mb "$bytes" "$w")" "$extra" "$(python3 -c "print($o / $w)")"
     done
@@ -119,7 +122,7 @@ done
 
 if [ $memory = 1 ]; then
     echo
-    echo "Peak resident memory, psim -q --model M --steps 5 --threads $threads --final OUT on 1e6 disks"
+    echo "Peak resident memory, psim -q --model M --steps 5 --threads $threads --out O --final F on 1e6 disks"
     echo "(lattice, density 0.5), /usr/bin/time %M, bytes per particle, median of $runs:"
     echo
     printf '| model | old | new | saved |\n|---|---:|---:|---:|\n'
@@ -131,9 +134,9 @@ if [ $memory = 1 ]; then
                 p=$oldp
                 [ $b = new ] && p=$new
                 /usr/bin/time -f %M -o "$tmp/t" "$p" -q --model $model --steps 5 --threads "$threads" \
-                    --final "$tmp/f" "$tmp/m.in"
+                    --out "$tmp/o" --final "$tmp/f" "$tmp/m.in"
                 cat "$tmp/t" >>"$tmp/m_$b"
-                rm -f "$tmp/f"
+                rm -f "$tmp/f" "$tmp/o"
             done
         done
         o=$(median <"$tmp/m_old") w=$(median <"$tmp/m_new")

@@ -184,6 +184,13 @@ typedef struct psim_sim psim_sim;
 
 psim_sim *psim_create(const psim_scene *sc, const psim_config *cfg,
                       psim_error *err);
+/* The same, taking the scene's particle arrays: x, y, vx and vy are freed
+ * (and set to NULL) as soon as the simulation holds the particles, before
+ * the model sets itself up, so that the two copies never sit beside the
+ * model's own memory.  The rest of the scene (n, L, r, steps, its format,
+ * the line numbers that error messages name) stays the caller's. */
+psim_sim *psim_create_taking(psim_scene *sc, const psim_config *cfg,
+                             psim_error *err);
 /* Advance one step.  Returns 0, or -1 with err set: a --check violation,
  * collisions that do not settle, or no memory for the contacts. */
 int psim_step(psim_sim *s, psim_error *err);

@@ -695,18 +695,20 @@ int cli_run(int argc, char **argv)
     cfg.check = o.check;
     cfg.options = o.options;
     cfg.steps = steps;
-    s = psim_create(&sc, &cfg, &err);
+    /* The engine takes the scene's particles (freed once its store holds
+     * them), except from standard input, which cannot be read twice: that
+     * scene is kept whole for a second run that looks for the first
+     * non-finite step; any other is made or read again for it. */
+    const int keep_scene = o.scene && strcmp(o.scene, "-") == 0;
+    s = keep_scene ? psim_create(&sc, &cfg, &err) : psim_create_taking(&sc, &cfg, &err);
     if (!s) {
         fprintf(stderr, "psim: %s\n", err.msg);
         rc = err.usage ? 2 : 1;
         goto done;
     }
-    /* The engine holds the particles now: the scene's arrays (and their
-     * line numbers) go, where 40 bytes a particle would stay beside the
-     * engine's store to the end; a second run that looks for the first
-     * non-finite step makes or reads the scene again.  A scene from
-     * standard input, which cannot be read twice, stays. */
-    if (!o.scene || strcmp(o.scene, "-") != 0)
+    /* and the line numbers go too (8 bytes a particle), now that the
+     * model has set itself up */
+    if (!keep_scene)
         psim_scene_free(&sc);
     rs.style = psim_get_output_style(s);
     rs.print = rs.style.every_step && sc.print;

@@ -188,8 +188,8 @@ double psim_engine_option(const psim_sim *e, const char *name, double dflt)
     return (k >= 0 && e->opt_set[k]) ? e->opt_value[k] : dflt;
 }
 
-psim_sim *psim_engine_create(const psim_scene *sc, const psim_config *cfg,
-                             const psim_model *model, psim_error *err)
+psim_sim *psim_engine_create(psim_scene *sc, const psim_config *cfg,
+                             const psim_model *model, int take, psim_error *err)
 {
     psim_sim *e = calloc(1, sizeof *e);
     if (!e) {
@@ -222,6 +222,12 @@ psim_sim *psim_engine_create(const psim_scene *sc, const psim_config *cfg,
             e->st.vy[i] = sc->vy[i];
             e->st.id[i] = (int32_t)i;
         }
+    }
+    if (take) {
+        /* the store holds the particles: the scene's copy goes before the
+         * model allocates its own memory */
+        free(sc->x), free(sc->y), free(sc->vx), free(sc->vy);
+        sc->x = sc->y = sc->vx = sc->vy = NULL;
     }
     if (cfg->check &&
         (snapshot_alloc(&e->before, e->n) || snapshot_alloc(&e->after, e->n))) {

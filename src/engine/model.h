@@ -87,9 +87,12 @@ void psim_snapshot_free(psim_snapshot *s);
 int psim_state_cols_take(const struct psim_sim *e, psim_cols *c);
 void psim_state_cols_free(psim_cols *c);
 
-/* Create a simulation of sc with model m (the composing layer's call). */
-struct psim_sim *psim_engine_create(const psim_scene *sc, const psim_config *cfg,
-                                    const psim_model *m, psim_error *err);
+/* Create a simulation of sc with model m (the composing layer's call);
+ * with take, sc's particle arrays are freed once the store holds them,
+ * before m's create, which reads the particles from the store (in id
+ * order until the first sort) and only the rest of the scene from sc. */
+struct psim_sim *psim_engine_create(psim_scene *sc, const psim_config *cfg,
+                                    const psim_model *m, int take, psim_error *err);
 /* Give the simulation a grid of cells no narrower than reach (and sort by
  * it every step), over bbox = {xmin, ymin, xmax, ymax} or, if NULL, the
  * box.  May be called again to re-plan it.  Returns 0 or -1 (no memory). */

@@ -71,7 +71,7 @@ int psim_generate_scene(const char *name, long n, uint64_t seed, psim_scene *sc,
     return m->generate(sc, n, seed, err);
 }
 
-psim_sim *psim_create(const psim_scene *sc, const psim_config *cfg, psim_error *err)
+static psim_sim *create(psim_scene *sc, const psim_config *cfg, int take, psim_error *err)
 {
     const char *name = cfg->model ? cfg->model : psim_default_model(sc);
     const psim_model *m = psim_model_find(name);
@@ -81,5 +81,16 @@ psim_sim *psim_create(const psim_scene *sc, const psim_config *cfg, psim_error *
             err->usage = 1;
         return NULL;
     }
-    return psim_engine_create(sc, cfg, m, err);
+    return psim_engine_create(sc, cfg, m, take, err);
+}
+
+psim_sim *psim_create(const psim_scene *sc, const psim_config *cfg, psim_error *err)
+{
+    /* not taken: the engine only reads it */
+    return create((psim_scene *)sc, cfg, 0, err);
+}
+
+psim_sim *psim_create_taking(psim_scene *sc, const psim_config *cfg, psim_error *err)
+{
+    return create(sc, cfg, 1, err);
 }

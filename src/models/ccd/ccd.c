@@ -102,23 +102,24 @@ static void destroy(void *p)
  * the scene, as the event model refuses overlaps.  Disks that straddle a
  * wall (centre within r of it, as in the course's scenes) run as the
  * authors' program runs them. */
-static long first_outside(const psim_scene *sc)
+static long first_outside(const psim_sim *e)
 {
-    for (long i = 0; i < sc->n; i++)
-        if (!(sc->x[i] >= 0 && sc->x[i] <= sc->L && sc->y[i] >= 0 && sc->y[i] <= sc->L))
+    const psim_store *s = &e->st;   /* by id before the first sort */
+    for (long i = 0; i < (long)s->n; i++)
+        if (!(s->x[i] >= 0 && s->x[i] <= e->L && s->y[i] >= 0 && s->y[i] <= e->L))
             return i;
     return -1;
 }
 
 static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
 {
-    long out = first_outside(sc);
+    long out = first_outside(e);
     if (out >= 0) {
         char at[320];
         psim_scene_where(sc, out, at, sizeof at);
         psim_error_set(err, "%sdisk %ld at (%.17g, %.17g) is outside the box [0, %.17g]^2: "
                             "the ccd model's wall rule needs every centre inside it",
-                       at, out, sc->x[out], sc->y[out], sc->L);
+                       at, out, e->st.x[out], e->st.y[out], sc->L);
         return NULL;
     }
     cmodel *m = calloc(1, sizeof *m);

@@ -95,16 +95,18 @@ static void destroy(void *p)
     free(m);
 }
 
-/* {xmin, ymin, xmax, ymax} of the disks' centres */
-static const double *bounding_box(const psim_scene *sc, double *b)
+/* {xmin, ymin, xmax, ymax} of the disks' centres (the store, in id
+ * order before the first sort) */
+static const double *bounding_box(const psim_sim *e, double *b)
 {
-    b[0] = b[2] = sc->x[0];
-    b[1] = b[3] = sc->y[0];
-    for (long i = 1; i < sc->n; i++) {
-        b[0] = fmin(b[0], sc->x[i]);
-        b[2] = fmax(b[2], sc->x[i]);
-        b[1] = fmin(b[1], sc->y[i]);
-        b[3] = fmax(b[3], sc->y[i]);
+    const psim_store *s = &e->st;
+    b[0] = b[2] = s->x[0];
+    b[1] = b[3] = s->y[0];
+    for (size_t i = 1; i < s->n; i++) {
+        b[0] = fmin(b[0], s->x[i]);
+        b[2] = fmax(b[2], s->x[i]);
+        b[1] = fmin(b[1], s->y[i]);
+        b[3] = fmax(b[3], s->y[i]);
     }
     return b;
 }
@@ -115,7 +117,7 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
     dmodel *m = calloc(1, sizeof *m);
     /* cells wider than 2r over the disks' bounding box: contacts are in
      * the same or adjacent cells */
-    if (!m || psim_engine_grid(e, 2.0 * e->r, sc->n > 0 ? bounding_box(sc, bbox) : NULL))
+    if (!m || psim_engine_grid(e, 2.0 * e->r, sc->n > 0 ? bounding_box(e, bbox) : NULL))
         goto oom;
     m->ntiles = e->grid.ntiles;
     m->four_r2 = 4.0 * e->r * e->r;

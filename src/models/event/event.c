@@ -129,9 +129,10 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
     m->buckets = psim_engine_option(e, "calendar", 1) != 0;
     if (plan_cells(m) || alloc_state(m))
         goto oom;
+    const psim_store *st = &e->st;   /* by id before the first sort */
     for (long i = 0; i < m->n; i++) {
-        m->d[i].x = sc->x[i], m->d[i].y = sc->y[i];
-        m->d[i].vx = sc->vx[i], m->d[i].vy = sc->vy[i];
+        m->d[i].x = st->x[i], m->d[i].y = st->y[i];
+        m->d[i].vx = st->vx[i], m->d[i].vy = st->vy[i];
         m->d[i].cx = cell_of(m, m->d[i].x);
         m->d[i].cy = cell_of(m, m->d[i].y);
         event_cell_insert(m, (int32_t)i);
