@@ -89,7 +89,7 @@ for N in $sizes; do
     cmp -s "$tmp/f_new" "$tmp/f_old" || { echo "io_bench.sh: --final differs between the builds" >&2; exit 1; }
     sbytes=$(stat -c %s "$scene") fbytes=$(stat -c %s "$tmp/f_new")
     rm -f "$tmp/f_new" "$tmp/f_old"
-    : >"$tmp/gen_old" >"$tmp/gen_new" >"$tmp/rd_old" >"$tmp/rd_new" >"$tmp/rs_new" >"$tmp/wr_old" >"$tmp/wr_new"
+    for f in gen_old gen_new rd_old rd_new rs_new wr_old wr_new; do : >"$tmp/$f"; done
     for ((k = 0; k < runs; k++)); do
         for b in old new; do
             p=$oldp
@@ -128,7 +128,8 @@ if [ $memory = 1 ]; then
     printf '| model | old | new | saved |\n|---|---:|---:|---:|\n'
     "$new" gen --n 1000000 --density 0.5 --r 1 --steps 5 --place lattice --out "$tmp/m.in" 2>/dev/null
     for model in discrete ccd force event; do
-        : >"$tmp/m_old" >"$tmp/m_new"
+        : >"$tmp/m_old"
+        : >"$tmp/m_new"
         for ((k = 0; k < runs; k++)); do
             for b in old new; do
                 p=$oldp
