@@ -304,16 +304,26 @@ void progress_init(progress *p, long total, int quiet)
     p->start = p->last = psim_now();
 }
 
+/* Whether p is due to show at time now (then marked shown at now): a bar
+ * on a terminal after 1 s, every 0.1 s; elsewhere a line every
+ * PROGRESS_LINE_S seconds; PSIM_PROGRESS_S, both. */
+static int progress_due(progress *p, double now)
+{
+    double delay = p->every >= 0 ? p->every : 1.0,
+           gap = p->every >= 0 ? p->every : p->tty ? 0.1 : PROGRESS_LINE_S;
+    if (now - p->start < delay || now - p->last < gap)
+        return 0;
+    p->last = now;
+    return 1;
+}
+
 void progress_update(progress *p, long done)
 {
     if (!p->enabled)
         return;
     double now = psim_now();
-    double delay = p->every >= 0 ? p->every : 1.0,
-           gap = p->every >= 0 ? p->every : p->tty ? 0.1 : PROGRESS_LINE_S;
-    if (now - p->start < delay || now - p->last < gap)
+    if (!progress_due(p, now))
         return;
-    p->last = now;
     double eta = done ? (now - p->start) * (double)(p->total - done) / (double)done : 0;
     if (!p->tty) {
         fprintf(stderr, "psim: step %ld of %ld (%.0f%%), %.0f s so far, about %.0f s left\n",
@@ -347,14 +357,9 @@ static void io_show(void *ctx, int writing, long long done, long long total)
     progress *p = &io.pb;
     if (!io.on || !p->enabled)
         return;
-    /* when and how often, as progress_update: a bar on a terminal after
-     * 1 s, elsewhere a line every PROGRESS_LINE_S seconds */
     double now = psim_now();
-    double delay = p->every >= 0 ? p->every : 1.0,
-           gap = p->every >= 0 ? p->every : p->tty ? 0.1 : PROGRESS_LINE_S;
-    if (now - p->start < delay || now - p->last < gap)
+    if (!progress_due(p, now))
         return;
-    p->last = now;
     double frac = total > 0 ? (double)done / (double)total : 0;
     double eta = total > 0 && done > 0 ? (now - p->start) * (1 - frac) / frac : 0;
     /* lines, or millions of them; bytes in MB (kB below 10 MB) */
