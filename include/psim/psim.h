@@ -304,11 +304,11 @@ int psim_write_header(psim_sim *s, FILE *f);
  * nothing for a model whose source prints none. */
 void psim_print_source_summary(FILE *f, const psim_sim *s, double seconds);
 
-/* One extended XYZ frame (--dump): the count, a comment line (the box as
- * Lattice, Properties=id:I:1:pos:R:3:velo:R:3:radius:R:1, Time and step),
- * then "i x y 0 vx vy 0 r" per disk in id order (shortest round-trip). */
-int psim_write_xyz(FILE *f, long step, long n, double L, double r, const double *x,
-                   const double *y, const double *vx, const double *vy);
+/* One extended XYZ frame of the current state (--dump), as step: the
+ * count, a comment line (the box as Lattice,
+ * Properties=id:I:1:pos:R:3:velo:R:3:radius:R:1, Time and step), then
+ * "i x y 0 vx vy 0 r" per disk in id order (shortest round-trip). */
+int psim_write_dump(psim_sim *s, FILE *f, long step);
 
 /* Write the run's statistics as one JSON object.  scene_name may be NULL;
  * extra, if not NULL, holds more members ("key": value, ...) to include. */

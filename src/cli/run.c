@@ -403,7 +403,6 @@ static int reload_scene(const run_opts *o, psim_scene *sc)
 
 typedef struct run_state {
     outfile out, trace, final, stats, thermo, dump;
-    double L, r;                  /* the box and radius, for --dump */
     cli_thermo th;
     psim_output_style style;
     int print;          /* the model's output holds every step */
@@ -504,16 +503,7 @@ static void set_write_failed(psim_error *err, const char *name)
 static int write_dump(psim_sim *s, run_state *rs, long k)
 {
     double t0 = psim_now();
-    long n = psim_count(s);
-    size_t bytes = (size_t)(n > 0 ? n : 1) * sizeof(double);
-    double *x = malloc(bytes), *y = malloc(bytes), *vx = malloc(bytes), *vy = malloc(bytes);
-    int rc = -1;
-    if (x && y && vx && vy) {
-        psim_get_state(s, x, y, vx, vy);
-        rc = psim_write_xyz(rs->dump.f, k, n, rs->L, rs->r, x, y, vx, vy);
-    } else
-        errno = ENOMEM;
-    free(x), free(y), free(vx), free(vy);
+    int rc = psim_write_dump(s, rs->dump.f, k);
     psim_add_output_time(s, psim_now() - t0);
     return rc;
 }
@@ -713,7 +703,6 @@ int cli_run(int argc, char **argv)
     rs.style = psim_get_output_style(s);
     rs.print = rs.style.every_step && sc.print;
     thermo_init(&rs.th, o.thermo, sc.L);
-    rs.L = sc.L, rs.r = sc.r;
     if (open_outputs(&o, &rs))
         goto done;
     double t0 = psim_now();

@@ -441,6 +441,16 @@ int psim_write_trace(psim_sim *e, FILE *f, long step, int digits)
     return rc;
 }
 
+int psim_write_dump(psim_sim *e, FILE *f, long step)
+{
+    psim_cols c;
+    if (psim_state_cols_take(e, &c))
+        return -1;
+    int rc = psim_write_xyz_cols(f, step, e->n, e->L, e->r, &c, e->threads);
+    psim_state_cols_free(&c);
+    return rc;
+}
+
 int psim_write_header(psim_sim *e, FILE *f)
 {
     return e->model->write_header ? e->model->write_header(e, e->mstate, f) : 0;

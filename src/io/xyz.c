@@ -1,30 +1,53 @@
 /* --dump: frames in extended XYZ (OVITO, VMD, ASE read it): the count,
  * a comment line of key=value pairs (the box as a lattice, the columns),
- * then a line per disk in id order, z = 0. */
+ * then a line per disk in id order, z = 0, made by psim_write_lines. */
 #include <stdio.h>
 
+#include "fmt.h"
 #include "psim/psim.h"
 
-int psim_write_xyz(FILE *f, long step, long n, double L, double r, const double *x,
-                   const double *y, const double *vx, const double *vy)
+typedef struct xyz_ctx {
+    const psim_cols *c;
+    char r[PSIM_FMT_MAX];   /* the radius, formatted once */
+    int rlen;
+} xyz_ctx;
+
+/* "i x y 0 vx vy 0 r": four numbers, an id, the radius. */
+#define XYZ_LINE_MAX (24 + 5 * (PSIM_FMT_MAX + 1) + 8)
+
+static size_t xyz_line(char *out, long i, const void *vctx)
 {
-    char l[PSIM_FORMAT_MAX], d[PSIM_FORMAT_MAX], rr[PSIM_FORMAT_MAX];
-    psim_format_double(l, L, -1);
-    psim_format_double(d, 2 * r, -1);
-    psim_format_double(rr, r, -1);
+    const xyz_ctx *x = vctx;
+    const psim_cols *c = x->c;
+    long k = c->at ? c->at[i] : i;
+    char *p = psim_fmt_long(out, i);
+    *p++ = ' ';
+    p += psim_fmt_shortest(p, c->x[k]);
+    *p++ = ' ';
+    p += psim_fmt_shortest(p, c->y[k]);
+    *p++ = ' ', *p++ = '0', *p++ = ' ';
+    p += psim_fmt_shortest(p, c->vx[k]);
+    *p++ = ' ';
+    p += psim_fmt_shortest(p, c->vy[k]);
+    *p++ = ' ', *p++ = '0', *p++ = ' ';
+    for (int q = 0; q < x->rlen; q++)
+        *p++ = x->r[q];
+    *p++ = '\n';
+    return (size_t)(p - out);
+}
+
+int psim_write_xyz_cols(FILE *f, long step, long n, double L, double r, const psim_cols *c,
+                        int threads)
+{
+    char l[PSIM_FMT_MAX], d[PSIM_FMT_MAX];
+    xyz_ctx x = {c, {0}, 0};
+    psim_fmt_shortest(l, L);
+    psim_fmt_shortest(d, 2 * r);
+    x.rlen = psim_fmt_shortest(x.r, r);
     if (fprintf(f, "%ld\nLattice=\"%s 0 0 0 %s 0 0 0 %s\" Origin=\"0 0 0\" "
                    "Properties=id:I:1:pos:R:3:velo:R:3:radius:R:1 Time=%ld step=%ld "
                    "pbc=\"F F F\"\n",
                 n, l, l, d, step, step) < 0)
         return -1;
-    char a[PSIM_FORMAT_MAX], b[PSIM_FORMAT_MAX], c[PSIM_FORMAT_MAX], e[PSIM_FORMAT_MAX];
-    for (long i = 0; i < n; i++) {
-        psim_format_double(a, x[i], -1);
-        psim_format_double(b, y[i], -1);
-        psim_format_double(c, vx[i], -1);
-        psim_format_double(e, vy[i], -1);
-        if (fprintf(f, "%ld %s %s 0 %s %s 0 %s\n", i, a, b, c, e, rr) < 0)
-            return -1;
-    }
-    return 0;
+    return psim_write_lines(f, n, threads, XYZ_LINE_MAX, xyz_line, &x);
 }
