@@ -1,7 +1,7 @@
 /* Thermodynamic quantities of the current state (--thermo): kinetic
- * energy, momentum and overlapping pairs, from the state in id order, so
- * that they do not depend on the store's order, the thread count or how a
- * run was chained (a restart sorts afresh). */
+ * energy, momentum and overlapping pairs, over the store in id order
+ * (psim_state_cols_take), so that they do not depend on the store's order,
+ * the thread count or how a run was chained (a restart sorts afresh). */
 #include <math.h>
 #include <stdlib.h>
 
@@ -16,7 +16,7 @@ static int cell_of(double v, double h, int G)
 }
 
 /* Pairs (i < j) with squared distance below d2 in cell list a against
- * cell list b (a == b: within the cell). */
+ * cell list b (a == b: within the cell); ord holds store places. */
 static long count_pairs(const double *x, const double *y, const uint32_t *ord,
                         uint32_t a0, uint32_t a1, uint32_t b0, uint32_t b1, int same, double d2)
 {
@@ -31,8 +31,9 @@ static long count_pairs(const double *x, const double *y, const uint32_t *ord,
 
 /* Pairs closer than 2r, through a cell list of its own (O(n) for any
  * scene the models run); -1 without memory. */
-static long count_overlaps(const double *x, const double *y, long n, double L, double r)
+static long count_overlaps(const psim_cols *c, long n, double L, double r)
 {
+    const double *x = c->x, *y = c->y;
     double reach = 2 * r;
     if (n < 2 || !(reach > 0))
         return 0;
@@ -47,32 +48,33 @@ static long count_overlaps(const double *x, const double *y, long n, double L, d
     long found = -1;
     if (!start || !ord || !cell)
         goto out;
-    for (long i = 0; i < n; i++) {
-        cell[i] = (uint32_t)cell_of(y[i], h, G) * (uint32_t)G + (uint32_t)cell_of(x[i], h, G);
+    for (long i = 0; i < n; i++) {   /* by id */
+        long k = c->at[i];
+        cell[i] = (uint32_t)cell_of(y[k], h, G) * (uint32_t)G + (uint32_t)cell_of(x[k], h, G);
         start[cell[i] + 1]++;
     }
-    for (size_t c = 0; c < cells; c++)
-        start[c + 1] += start[c];
+    for (size_t q = 0; q < cells; q++)
+        start[q + 1] += start[q];
     for (long i = 0; i < n; i++)   /* stable: ids ascending within a cell */
-        ord[start[cell[i]]++] = (uint32_t)i;
-    for (size_t c = cells; c > 0; c--)
-        start[c] = start[c - 1];
+        ord[start[cell[i]]++] = (uint32_t)c->at[i];
+    for (size_t q = cells; q > 0; q--)
+        start[q] = start[q - 1];
     start[0] = 0;
     static const int fwd[4][2] = {{1, 0}, {-1, 1}, {0, 1}, {1, 1}};
     found = 0;
     for (int cy = 0; cy < G; cy++)
         for (int cx = 0; cx < G; cx++) {
-            size_t c = (size_t)cy * (size_t)G + (size_t)cx;
-            if (start[c] == start[c + 1])
+            size_t a = (size_t)cy * (size_t)G + (size_t)cx;
+            if (start[a] == start[a + 1])
                 continue;
-            found += count_pairs(x, y, ord, start[c], start[c + 1], 0, start[c + 1], 1,
+            found += count_pairs(x, y, ord, start[a], start[a + 1], 0, start[a + 1], 1,
                                  reach * reach);
             for (int k = 0; k < 4; k++) {
                 int nx = cx + fwd[k][0], ny = cy + fwd[k][1];
                 if (nx < 0 || nx >= G || ny >= G)
                     continue;
                 size_t d = (size_t)ny * (size_t)G + (size_t)nx;
-                found += count_pairs(x, y, ord, start[c], start[c + 1], start[d], start[d + 1], 0,
+                found += count_pairs(x, y, ord, start[a], start[a + 1], start[d], start[d + 1], 0,
                                      reach * reach);
             }
         }
@@ -83,25 +85,21 @@ out:
 
 int psim_thermo_measure(const psim_sim *e, psim_thermo *t)
 {
-    long n = e->n;
-    size_t bytes = (size_t)(n > 0 ? n : 1) * sizeof(double);
-    double *x = malloc(bytes), *y = malloc(bytes), *vx = malloc(bytes), *vy = malloc(bytes);
-    int rc = -1;
-    if (!x || !y || !vx || !vy)
-        goto out;
-    psim_get_state(e, x, y, vx, vy);
+    psim_cols c;
+    if (psim_state_cols_take(e, &c))
+        return -1;
+    const long n = e->n;
     t->step = e->step;
     t->ke = t->px = t->py = 0;
     for (long i = 0; i < n; i++) {   /* in id order */
-        t->ke += 0.5 * (vx[i] * vx[i] + vy[i] * vy[i]);
-        t->px += vx[i];
-        t->py += vy[i];
+        double vx = c.vx[c.at[i]], vy = c.vy[c.at[i]];
+        t->ke += 0.5 * (vx * vx + vy * vy);
+        t->px += vx;
+        t->py += vy;
     }
-    t->overlaps = count_overlaps(x, y, n, e->L, e->r);
-    rc = t->overlaps < 0 ? -1 : 0;
-out:
-    free(x), free(y), free(vx), free(vy);
-    return rc;
+    t->overlaps = count_overlaps(&c, n, e->L, e->r);
+    psim_state_cols_free(&c);
+    return t->overlaps < 0 ? -1 : 0;
 }
 
 const char *psim_thermo_column(const psim_sim *e, int k)
