@@ -234,10 +234,10 @@ void psim_destroy(psim_sim *s);
 
 /* The state's totals, in id order (unit masses): kinetic energy
  * (1/2) sum (vx^2 + vy^2), momentum (sum vx, sum vy), and the pairs of
- * disks whose centres are closer than 2r. */
+ * disks whose centres are closer than 2r; the box's area L^2. */
 typedef struct psim_thermo {
     long step;
-    double ke, px, py;
+    double ke, px, py, area;
     long overlaps;
 } psim_thermo;
 /* 0, or -1 without memory. */

@@ -82,7 +82,6 @@ void progress_done(progress *p);
 typedef struct cli_thermo {
     long every;             /* 0: no rows */
     FILE *table, *csv;
-    double area;            /* the box's */
     int ncols, pressure;
     const char *col[PSIM_THERMO_MAX];
     uint64_t last[PSIM_THERMO_MAX];
@@ -90,7 +89,7 @@ typedef struct cli_thermo {
     long last_step;
 } cli_thermo;
 
-void thermo_init(cli_thermo *t, long every, double L);
+void thermo_init(cli_thermo *t, long every);
 /* The header and the row of the state before the first step; then after
  * step k of steps.  0, or -1 without memory. */
 int thermo_start(cli_thermo *t, psim_sim *s, FILE *table, FILE *csv);

@@ -578,7 +578,7 @@ static int simulate(const run_opts *o, psim_sim *s, const psim_scene *sc,
 {
     progress pb;
     /* a thermo table shows the progress itself */
-    progress_init(&pb, steps, o->quiet || (o->thermo && !o->quiet));
+    progress_init(&pb, steps, o->quiet || o->thermo);
     int rc = 0;
     if (rs->dump.f && write_dump(s, rs, 0)) {
         set_write_failed(err, o->dump);
@@ -702,7 +702,7 @@ int cli_run(int argc, char **argv)
         psim_scene_free(&sc);
     rs.style = psim_get_output_style(s);
     rs.print = rs.style.every_step && sc.print;
-    thermo_init(&rs.th, o.thermo, sc.L);
+    thermo_init(&rs.th, o.thermo);
     if (open_outputs(&o, &rs))
         goto done;
     double t0 = psim_now();

@@ -6,11 +6,10 @@
 #include "cli.h"
 #include "../engine/timer.h"
 
-void thermo_init(cli_thermo *t, long every, double L)
+void thermo_init(cli_thermo *t, long every)
 {
     memset(t, 0, sizeof *t);
     t->every = every;
-    t->area = L * L;
 }
 
 /* The columns of a row: the engine's totals, the model's counters since
@@ -75,7 +74,7 @@ static int row(cli_thermo *t, const psim_sim *s)
     if (t->pressure) {
         /* 2D, unit masses: P A = K + W / (2 dt) over the interval (K = N kT) */
         double w = psim_value(s, "virial"), dt = (double)(th.step - t->last_step);
-        double p = dt > 0 ? (th.ke + (w - t->last_virial) / (2 * dt)) / t->area : NAN;
+        double p = dt > 0 ? (th.ke + (w - t->last_virial) / (2 * dt)) / th.area : NAN;
         t->last_virial = w;
         if (t->table && isnan(p))
             fprintf(t->table, " %14s", "-");
@@ -104,9 +103,9 @@ int thermo_start(cli_thermo *t, psim_sim *s, FILE *table, FILE *csv)
     t->table = table, t->csv = csv;
     t->last_step = psim_step_index(s);
     t->last_virial = psim_value(s, "virial");
-    for (int k = 0; k < PSIM_THERMO_MAX && psim_thermo_column(s, k); k++)
-        t->last[k] = psim_counter(s, psim_thermo_column(s, k));
     header(t, s);
+    for (int k = 0; k < t->ncols; k++)
+        t->last[k] = psim_counter(s, t->col[k]);
     int rc = row(t, s);
     psim_add_output_time(s, psim_now() - t0);
     return rc;

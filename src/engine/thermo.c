@@ -90,6 +90,7 @@ int psim_thermo_measure(const psim_sim *e, psim_thermo *t)
         return -1;
     const long n = e->n;
     t->step = e->step;
+    t->area = e->L * e->L;
     t->ke = t->px = t->py = 0;
     for (long i = 0; i < n; i++) {   /* in id order */
         double vx = c.vx[c.at[i]], vy = c.vy[c.at[i]];
