@@ -39,6 +39,25 @@ typedef enum {
                            * from n and a seed (psim_generate_scene) */
 } psim_scene_format;
 
+/* What a restart file (--restart) adds to a scene: its first line,
+ * "#psim restart 1 KEY=VALUE ...", names the model and the steps done, the
+ * model's options and the engine's grid plan; its particle lines are in
+ * the order the run kept them, with the model's own columns after vy
+ * (docs/formats.md, "Restart files"). */
+#define PSIM_RESTART_COLS 8
+typedef struct psim_restart {
+    int present;
+    long step;                  /* steps done before this file was written */
+    char model[32];             /* the model that wrote it */
+    char *options;              /* its options "K=V,K=V" (NULL: none) */
+    int has_grid, grid_has_bbox;
+    double grid[7];             /* reach, occupancy, tile cells, the bbox if any */
+    int ncols;
+    char colname[PSIM_RESTART_COLS][24];
+    double *col[PSIM_RESTART_COLS];  /* n each, by id */
+    int32_t *order;             /* n: the ids in the file's order */
+} psim_restart;
+
 /* A scene, by particle id 0..n-1. */
 typedef struct psim_scene {
     long n;         /* particles */
@@ -51,6 +70,7 @@ typedef struct psim_scene {
     int generated;  /* 2019 format: the particle lines were absent */
     char *source;   /* the file it was read from (NULL: made, not read) */
     long *line;     /* n: the line of each particle in it (NULL likewise) */
+    psim_restart restart;   /* present: the scene is a restart file */
 } psim_scene;
 
 /* Allocate the arrays of a scene of n particles (zeroed). */
@@ -303,6 +323,12 @@ int psim_write_header(psim_sim *s, FILE *f);
  * Time = T seconds for N particles."), given the run's time in seconds;
  * nothing for a model whose source prints none. */
 void psim_print_source_summary(FILE *f, const psim_sim *s, double seconds);
+
+/* The current state as a restart file: a scene psim reads back (any
+ * model; with the model that wrote it, the run goes on exactly as if it
+ * had not stopped: 2S steps give the bytes of S steps then S more).  steps
+ * is the step count S written in it (how many steps running it takes). */
+int psim_write_restart(psim_sim *s, FILE *f, long steps);
 
 /* One extended XYZ frame of the current state (--dump), as step: the
  * count, a comment line (the box as Lattice,

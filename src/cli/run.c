@@ -14,7 +14,7 @@
 #include "../engine/timer.h"
 
 typedef struct run_opts {
-    const char *scene, *out, *trace, *final, *stats, *model, *thermo_file, *dump;
+    const char *scene, *out, *trace, *final, *stats, *model, *thermo_file, *dump, *restart;
     long dump_every;        /* --dump-every N (default 1) */
     long threads, steps, digits, tile, substeps;
     long thermo;            /* --thermo N (0: none; LONG_MAX: first and last) */
@@ -83,6 +83,10 @@ static void run_usage(FILE *f)
 "      --check       validate every step as the course's validator does\n"
 "      --stats FILE  write run statistics (phase times, counts, per-thread\n"
 "                    profile, placement) as JSON\n"
+"      --restart FILE  write the state after the last step as a scene to go\n"
+"                    on from: 'psim FILE' runs the next steps exactly as an\n"
+"                    unbroken run would (steps numbered on; any model reads\n"
+"                    it as a scene)\n"
 "      --dump FILE   write frames in extended XYZ (OVITO, VMD, ASE;\n"
 "                    scripts/animate): steps 0, N, 2N, ... and the last\n"
 "      --dump-every N  the frame interval of --dump (default 1)\n"
@@ -232,6 +236,7 @@ static int parse_run(int argc, char **argv, run_opts *o)
         {"thermo-file", required_argument, 0, 'Y'},
         {"dump", required_argument, 0, 'D'},
         {"dump-every", required_argument, 0, 'E'},
+        {"restart", required_argument, 0, 'W'},
         {0, 0, 0, 0}};
     memset(o, 0, sizeof *o);
     o->steps = -1;
@@ -267,6 +272,7 @@ static int parse_run(int argc, char **argv, run_opts *o)
         case 'H': if (cli_long("--thermo", optarg, 1, PSIM_MAX_STEPS, &o->thermo)) return 2; break;
         case 'Y': o->thermo_file = optarg; break;
         case 'D': o->dump = optarg; break;
+        case 'W': o->restart = optarg; break;
         case 'E': if (cli_long("--dump-every", optarg, 1, PSIM_MAX_STEPS, &o->dump_every)) return 2; break;
         case 'L':
             if (cli_long("--tile", optarg, 1, 1 << 20, &o->tile)) return 2;
@@ -327,12 +333,13 @@ static int parse_run(int argc, char **argv, run_opts *o)
         }
         o->threads = t;
     }
-    const char *files[6] = {o->out, o->trace, o->final, o->stats, o->thermo_file, o->dump};
-    for (int a = 0; a < 6; a++) {
-        for (int b = a + 1; b < 6; b++)
+    const char *files[7] = {o->out,         o->trace, o->final,  o->stats,
+                            o->thermo_file, o->dump,  o->restart};
+    for (int a = 0; a < 7; a++) {
+        for (int b = a + 1; b < 7; b++)
             if (files[a] && files[b] && same_file(files[a], files[b]) && !is_stream(files[a])) {
                 fprintf(stderr, "psim: '%s' is named for two outputs (--out, --trace, --final, "
-                                "--stats, --thermo-file, --dump)\n", files[a]);
+                                "--stats, --thermo-file, --dump, --restart)\n", files[a]);
                 return 2;
             }
         if (files[a] && o->scene && !is_stream(files[a]) && strcmp(o->scene, "-") &&
@@ -402,7 +409,7 @@ static int reload_scene(const run_opts *o, psim_scene *sc)
 }
 
 typedef struct run_state {
-    outfile out, trace, final, stats, thermo, dump;
+    outfile out, trace, final, stats, thermo, dump, restart;
     cli_thermo th;
     psim_output_style style;
     int print;          /* the model's output holds every step */
@@ -413,6 +420,17 @@ static int write_out(const run_opts *o, psim_sim *s, const outfile *of, long ste
     double t0 = psim_now();
     cli_io_begin("writing", of->name, o->quiet);
     int rc = psim_write_output(s, of->f, step, final, (int)o->digits);
+    cli_io_end();
+    psim_add_output_time(s, psim_now() - t0);
+    return rc;
+}
+
+/* The state as a restart file (--restart) whose step count is steps. */
+static int write_restart(const run_opts *o, psim_sim *s, const outfile *of, long steps)
+{
+    double t0 = psim_now();
+    cli_io_begin("writing", of->name, o->quiet);
+    int rc = psim_write_restart(s, of->f, steps);
     cli_io_end();
     psim_add_output_time(s, psim_now() - t0);
     return rc;
@@ -470,6 +488,8 @@ static int open_outputs(const run_opts *o, run_state *rs)
         return -1;
     if (o->dump && outfile_open(&rs->dump, o->dump))
         return -1;
+    if (o->restart && outfile_open(&rs->restart, o->restart))
+        return -1;
     return 0;
 }
 
@@ -481,13 +501,15 @@ static void abort_outputs(run_state *rs)
     outfile_abort(&rs->stats);
     outfile_abort(&rs->thermo);
     outfile_abort(&rs->dump);
+    outfile_abort(&rs->restart);
 }
 
-/* Whether the model's output holds the state after step k of steps (the
- * last one, if final, is written after the loop with its own columns). */
-static int out_due(const run_state *rs, long k, long steps)
+/* Whether the model's output holds the state after step k, last being
+ * the run's last step (written after the loop with its own columns, if
+ * final). */
+static int out_due(const run_state *rs, long k, long last)
 {
-    if (rs->style.final && k == steps)
+    if (rs->style.final && k == last)
         return 0;
     return rs->print || (rs->style.period > 0 && (k - 1) % rs->style.period == 0);
 }
@@ -508,13 +530,13 @@ static int write_dump(psim_sim *s, run_state *rs, long k)
     return rc;
 }
 
-/* The states due after step k of steps: the trace every step, the
- * model's output as its source writes it, the dump every --dump-every
- * steps and after the last. */
-static int write_step(const run_opts *o, psim_sim *s, long k, long steps, run_state *rs,
+/* The states due after step k (last: the run's last step): the trace
+ * every step, the model's output as its source writes it, the dump every
+ * --dump-every steps and after the last. */
+static int write_step(const run_opts *o, psim_sim *s, long k, long last, run_state *rs,
                       psim_error *err)
 {
-    if (rs->dump.f && (k % o->dump_every == 0 || k == steps) && write_dump(s, rs, k)) {
+    if (rs->dump.f && (k % o->dump_every == 0 || k == last) && write_dump(s, rs, k)) {
         set_write_failed(err, o->dump);
         return -1;
     }
@@ -522,7 +544,7 @@ static int write_step(const run_opts *o, psim_sim *s, long k, long steps, run_st
         set_write_failed(err, o->trace);
         return -1;
     }
-    if (rs->out.f && out_due(rs, k, steps) && write_out(o, s, &rs->out, k, 0)) {
+    if (rs->out.f && out_due(rs, k, last) && write_out(o, s, &rs->out, k, 0)) {
         set_write_failed(err, rs->out.name);
         return -1;
     }
@@ -548,7 +570,7 @@ static void first_nonfinite(const run_opts *o, const psim_scene *sc, const psim_
         sc = &again;
     }
     psim_sim *s2 = psim_create(sc, cfg, &e2);
-    for (long k = 1; s2 && k < seen; k++) {
+    for (long k = s2 ? psim_step_index(s2) + 1 : seen; k < seen; k++) {
         if (psim_step(s2, &e2))
             break;
         if (k > checked && psim_state_finite(s2, &e2)) {
@@ -580,7 +602,9 @@ static int simulate(const run_opts *o, psim_sim *s, const psim_scene *sc,
     /* a thermo table shows the progress itself */
     progress_init(&pb, steps, o->quiet || o->thermo);
     int rc = 0;
-    if (rs->dump.f && write_dump(s, rs, 0)) {
+    /* steps are numbered on from a restart file's */
+    const long first = psim_step_index(s), last = first + steps;
+    if (rs->dump.f && write_dump(s, rs, first)) {
         set_write_failed(err, o->dump);
         rc = -1;
     }
@@ -589,7 +613,7 @@ static int simulate(const run_opts *o, psim_sim *s, const psim_scene *sc,
         rc = -1;
     }
     if (rs->out.f && (psim_write_header(s, rs->out.f) ||
-                      (rs->style.initial && write_out(o, s, &rs->out, 0, 0)))) {
+                      (rs->style.initial && write_out(o, s, &rs->out, first, 0)))) {
         set_write_failed(err, rs->out.name);
         rc = -1;
     }
@@ -604,8 +628,8 @@ static int simulate(const run_opts *o, psim_sim *s, const psim_scene *sc,
     const char *ev = getenv("PSIM_CHECK_EVERY");
     const long every = ev && atol(ev) > 0 ? atol(ev) : 0;
     double check_s = 0, steps_s = 0;
-    long checked = 0;   /* the last step whose state was seen finite */
-    for (long k = 1; k <= steps && rc == 0; k++) {
+    long checked = first;   /* the last step whose state was seen finite */
+    for (long k = first + 1; k <= last && rc == 0; k++) {
         double t0 = psim_now();
         if (psim_step(s, err)) {
             rc = -1;
@@ -614,7 +638,7 @@ static int simulate(const run_opts *o, psim_sim *s, const psim_scene *sc,
         steps_s += psim_now() - t0;
         /* (under --check the engine has checked this state already) */
         if (!cfg->check &&
-            (each || k == steps || (every ? k % every == 0 : 0.01 * steps_s >= check_s))) {
+            (each || k == last || (every ? k % every == 0 : 0.01 * steps_s >= check_s))) {
             double t1 = psim_now();
             if (finite_since(o, s, sc, cfg, checked, err)) {
                 rc = -1;
@@ -622,13 +646,13 @@ static int simulate(const run_opts *o, psim_sim *s, const psim_scene *sc,
             }
             check_s = psim_now() - t1, steps_s = 0, checked = k;
         }
-        if (write_step(o, s, k, steps, rs, err))
+        if (write_step(o, s, k, last, rs, err))
             rc = -1;
-        else if (thermo_step(&rs->th, s, k, steps)) {
+        else if (thermo_step(&rs->th, s, k, last)) {
             psim_error_set(err, "out of memory for --thermo");
             rc = -1;
         } else
-            progress_update(&pb, k);
+            progress_update(&pb, k - first);
     }
     progress_done(&pb); /* also on failure: the error line starts clean */
     return rc;
@@ -714,13 +738,19 @@ int cli_run(int argc, char **argv)
      * course's own figure, for the source's summary, includes them) */
     double loop_s = psim_now() - t0;
     double secs = loop_s - psim_get_stats(s)->phase_s[PSIM_PHASE_OUTPUT];
-    if (rs.out.f && rs.style.final && write_out(&o, s, &rs.out, steps, 1)) {
+    const long last = psim_step_index(s);
+    if (rs.out.f && rs.style.final && write_out(&o, s, &rs.out, last, 1)) {
         set_write_failed(&err, rs.out.name);
         fprintf(stderr, "psim: %s\n", err.msg);
         goto done;
     }
-    if (rs.final.f && write_trace(&o, s, &rs.final, steps)) {
+    if (rs.final.f && write_trace(&o, s, &rs.final, last)) {
         set_write_failed(&err, rs.final.name);
+        fprintf(stderr, "psim: %s\n", err.msg);
+        goto done;
+    }
+    if (rs.restart.f && write_restart(&o, s, &rs.restart, steps)) {
+        set_write_failed(&err, rs.restart.name);
         fprintf(stderr, "psim: %s\n", err.msg);
         goto done;
     }
@@ -738,11 +768,13 @@ int cli_run(int argc, char **argv)
         free(pin_json), free(thr_json), free(extra);
     }
     /* the summary goes to stderr when an output is on stdout */
-    FILE *info = (on_stdout(&rs.out) || on_stdout(&rs.trace) || on_stdout(&rs.final) ||
-                  on_stdout(&rs.stats) || on_stdout(&rs.thermo) || on_stdout(&rs.dump))
-                     ? stderr : stdout;
-    outfile *outs[6] = {&rs.out, &rs.trace, &rs.final, &rs.stats, &rs.thermo, &rs.dump};
-    if (outfile_commit_all(outs, 6))
+    outfile *outs[7] = {&rs.out,    &rs.trace, &rs.final,  &rs.stats,
+                        &rs.thermo, &rs.dump,  &rs.restart};
+    FILE *info = stdout;
+    for (int k = 0; k < 7; k++)
+        if (on_stdout(outs[k]))
+            info = stderr;
+    if (outfile_commit_all(outs, 7))
         goto done;
     if (!o.quiet) {
         psim_print_source_summary(info, s, loop_s);

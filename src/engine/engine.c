@@ -87,14 +87,39 @@ int psim_engine_grid(psim_sim *e, double reach, const double *bbox)
     return psim_engine_grid_occ(e, reach, bbox, 0);
 }
 
+/* The plan asked for, kept for restart files; a restart's own plan
+ * answers the model's first ask (the same cells and tiles as the run
+ * that wrote it: the discrete model's results follow them). */
+static void grid_ask(psim_sim *e, double *reach, const double **bbox, double *occupancy,
+                     int *tile_cells)
+{
+    if (e->grid_saved) {
+        e->grid_saved = 0;
+        *reach = e->grid_saved_ask[0];
+        *occupancy = e->grid_saved_ask[1];
+        if (!*tile_cells)
+            *tile_cells = (int)e->grid_saved_ask[2];
+        *bbox = e->grid_saved_bbox ? e->grid_saved_ask + 3 : NULL;
+    }
+    e->grid_asked = 1;
+    e->grid_ask[0] = *reach;
+    e->grid_ask[1] = *occupancy;
+    e->grid_ask[2] = *tile_cells;
+    e->grid_ask_bbox = *bbox != NULL;
+    for (int k = 0; *bbox && k < 4; k++)
+        e->grid_ask[3 + k] = (*bbox)[k];
+}
+
 int psim_engine_grid_occ(psim_sim *e, double reach, const double *bbox, double occupancy)
 {
+    int tile_cells = e->cfg.tile_cells;
+    grid_ask(e, &reach, &bbox, &occupancy, &tile_cells);
     psim_sorter_free(&e->sorter);
     psim_grid_free(&e->grid);
     e->has_grid = 0;
     if (e->cfg.steps == 0)   /* no step will use it: one cell, never sorted */
         occupancy = INFINITY;
-    if (psim_grid_init_occ(&e->grid, e->L, e->r, reach, e->n, e->cfg.tile_cells, bbox,
+    if (psim_grid_init_occ(&e->grid, e->L, e->r, reach, e->n, tile_cells, bbox,
                            occupancy) ||
         psim_sorter_init(&e->sorter, e->threads, e->grid.ncells))
         return -1;
@@ -203,8 +228,16 @@ psim_sim *psim_engine_create(psim_scene *sc, const psim_config *cfg,
     e->r = sc->r;
     e->model = model;
     name_stats(&e->stats, model);
-    if (parse_options(e, cfg->options, err))
+    /* a restart file's options (those of the model that wrote it), then
+     * the run's own */
+    if ((sc->restart.present && !strcmp(sc->restart.model, model->name) &&
+         parse_options(e, sc->restart.options, err)) ||
+        parse_options(e, cfg->options, err))
         goto fail;
+    if (psim_engine_restart_init(e, sc)) {
+        psim_error_set(err, "out of memory for %ld particles", sc->n);
+        goto fail;
+    }
     if (psim_store_init(&e->st, (size_t)sc->n)) {
         psim_error_set(err, "out of memory for %ld particles", sc->n);
         goto fail;
@@ -263,6 +296,7 @@ void psim_destroy(psim_sim *e)
     psim_snapshot_free(&e->before);
     psim_snapshot_free(&e->after);
     psim_free(e->tstats);
+    free(e->restart_order);
     free(e);
 }
 
@@ -303,6 +337,8 @@ __attribute__((noinline)) static void phase_sort(psim_sim *e)
 
 void psim_engine_sort(psim_sim *e)
 {
+    if (e->restart_order)
+        psim_engine_restart_order(e);
     if (e->has_grid)
         PSIM_TIMED(e, PSIM_PHASE_SORT, phase_sort(e));
 }
@@ -318,7 +354,7 @@ int psim_step(psim_sim *e, psim_error *err)
     if (e->model->interact(e, e->mstate, err))
         return -1;
     e->step++;
-    e->stats.steps = e->step;
+    e->stats.steps = e->step - e->step0;
     if (e->cfg.check && e->model->check) {
         int rc;
         double t0 = psim_now();

@@ -28,7 +28,24 @@ struct psim_sim {
     psim_snapshot before, after; /* by id, for checks */
     double opt_value[PSIM_MODEL_OPTIONS]; /* the model's options, as set */
     int opt_set[PSIM_MODEL_OPTIONS];
+    /* restart files (restart.c): */
+    long step0;             /* steps done before this run (a restart's) */
+    psim_scene_format format;
+    int print;              /* the scene's, written into restart files */
+    int grid_asked, grid_ask_bbox;
+    double grid_ask[7];     /* the last grid the model asked for: reach,
+                             * occupancy, tile cells, bbox */
+    int grid_saved, grid_saved_bbox;
+    double grid_saved_ask[7]; /* a restart's, given at the model's first ask */
+    int32_t *restart_order; /* a restart's store order, from the first sort */
 };
+
+/* restart.c: what a restart file carries into the engine at its creation
+ * (the steps done, the grid plan, the store order; the model's options
+ * are parsed by the caller).  0, or -1 out of memory. */
+int psim_engine_restart_init(struct psim_sim *e, psim_scene *sc);
+/* The store into the restart's order (before the first sort). */
+void psim_engine_restart_order(struct psim_sim *e);
 
 /* Time fn(e, m) into phase p. */
 #define PSIM_TIMED(e, p, call)                                            \

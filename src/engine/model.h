@@ -73,6 +73,11 @@ typedef struct psim_model {
     /* optional: what its source prints at the end of a run */
     void (*source_summary)(FILE *f, const struct psim_sim *e, const void *m,
                            double seconds);
+    /* optional: each particle's own state beyond x, y, vx and vy, for
+     * restart files: the columns' names (NULL-terminated) and column k by
+     * id; create reads them back (psim_engine_restart_column) */
+    const char *restart_cols[PSIM_RESTART_COLS + 1];
+    void (*restart_save)(const struct psim_sim *e, const void *m, int k, double *by_id);
     /* optional: its source's own initial state of n particles from seed */
     int (*generate)(psim_scene *sc, long n, uint64_t seed, psim_error *err);
     void (*destroy)(void *m);
@@ -105,6 +110,10 @@ void psim_engine_sort(struct psim_sim *e);
 /* Value of the model's option called name (one of its options[]), or dflt
  * when the run did not set it. */
 double psim_engine_option(const struct psim_sim *e, const char *name, double dflt);
+/* The restart file's column called name (by id), if sc is a restart file
+ * written by this model; else NULL (the model starts afresh). */
+const double *psim_engine_restart_column(const struct psim_sim *e, const psim_scene *sc,
+                                         const char *name);
 /* Index of the counter called name in the stats (-1 if none). */
 int psim_engine_counter(const struct psim_sim *e, const char *name);
 

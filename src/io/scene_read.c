@@ -28,6 +28,7 @@
 #include <omp.h>
 
 #include "fmt.h"
+#include "restart.h"
 #include "psim/psim.h"
 
 /* The longest line a scene may have: five numbers of 17 digits with their
@@ -298,9 +299,18 @@ static int read_particle(reader *rd, psim_scene *sc, unsigned char *seen,
             return -1;
         }
     }
+    const psim_restart *rs = &sc->restart;
+    double extra[PSIM_RESTART_COLS];
+    for (int c = 0; c < rs->ncols; c++)
+        if (parse_double(&s, &extra[c]) || !isfinite(extra[c])) {
+            psim_error_set(err, "%s:%ld: particle %ld: missing or malformed %s (column %d "
+                           "of the restart header's columns)",
+                           rd->name, rd->line, id, rs->colname[c], c + 1);
+            return -1;
+        }
     if (!only_space(s)) {
-        psim_error_set(err, "%s:%ld: particle %ld: unexpected text after vy",
-                       rd->name, rd->line, id);
+        psim_error_set(err, "%s:%ld: particle %ld: unexpected text after %s",
+                       rd->name, rd->line, id, rs->ncols ? rs->colname[rs->ncols - 1] : "vy");
         return -1;
     }
     if (id < 0 || id >= sc->n) {
@@ -321,6 +331,8 @@ static int read_particle(reader *rd, psim_scene *sc, unsigned char *seen,
     sc->y[id] = v[1];
     sc->vx[id] = v[2];
     sc->vy[id] = v[3];
+    for (int c = 0; c < rs->ncols; c++)
+        rs->col[c][id] = extra[c];
     return 0;
 }
 
@@ -369,8 +381,8 @@ static int parse_piece(const block_job *j, const char *p, const char *b, long li
             id = id * 10 + (uint64_t)(*p++ - '0');
         if (p == d0 || !sep(*p))
             return -1;
-        double v[4];
-        for (int f = 0; f < 4; f++) {
+        double v[4 + PSIM_RESTART_COLS];
+        for (int f = 0; f < 4 + sc->restart.ncols; f++) {
             if (!sep(*p))
                 return -1;
             while (sep(*p))
@@ -392,6 +404,8 @@ static int parse_piece(const block_job *j, const char *p, const char *b, long li
         sc->y[id] = v[1];
         sc->vx[id] = v[2];
         sc->vy[id] = v[3];
+        for (int q = 0; q < sc->restart.ncols; q++)
+            sc->restart.col[q][id] = v[4 + q];
         sc->line[id] = line;
         c++;
     }
@@ -517,6 +531,20 @@ static int read_mode(reader *rd, psim_scene *sc)
     return 0;
 }
 
+/* A restart file's first line, "#psim restart 1 ...": read into
+ * sc->restart; any other first line is left for the header. */
+static int read_restart_line(reader *rd, psim_scene *sc, psim_error *err)
+{
+    char *s = next_line(rd);
+    if (!s)
+        return rd->failed ? -1 : 0;
+    if (s[0] != '#') {
+        rd->pushed = 1;
+        return 0;
+    }
+    return psim_restart_header(sc, chomp(s), rd->name, rd->line, err);
+}
+
 int psim_scene_read_stream(FILE *f, const char *name, psim_scene *sc,
                            psim_error *err)
 {
@@ -527,7 +555,9 @@ int psim_scene_read_stream(FILE *f, const char *name, psim_scene *sc,
     unsigned char *seen = NULL;
     memset(sc, 0, sizeof *sc);
     int rc = -1;
-    if (read_header(&rd, sc, err) || read_mode(&rd, sc))
+    if (read_restart_line(&rd, sc, err) || read_header(&rd, sc, err) ||
+        (!sc->restart.present && read_mode(&rd, sc)) ||
+        (sc->restart.present && psim_restart_alloc_columns(sc, err)))
         goto done;
     seen = calloc((size_t)sc->n + 1, 1);
     sc->line = calloc((size_t)sc->n + 1, sizeof *sc->line);
@@ -536,7 +566,7 @@ int psim_scene_read_stream(FILE *f, const char *name, psim_scene *sc,
         psim_error_set(err, "%s: out of memory for %ld particles", name, sc->n);
         goto done;
     }
-    if (sc->format == PSIM_SCENE_2019) {
+    if (sc->format == PSIM_SCENE_2019 && !sc->restart.present) {
         if (!next_line(&rd)) {
             if (rd.failed)
                 goto done;
@@ -563,6 +593,8 @@ int psim_scene_read_stream(FILE *f, const char *name, psim_scene *sc,
         psim_error_set(err, "%s: read error: %s", name, strerror(errno));
         goto done;
     }
+    if (sc->restart.present && psim_restart_order(sc, err))
+        goto done;
     rc = 0;
     goto done;
 gen_failed:
@@ -628,6 +660,7 @@ void psim_scene_free(psim_scene *sc)
     free(sc->vy);
     free(sc->source);
     free(sc->line);
+    psim_restart_free(&sc->restart);
     sc->x = sc->y = sc->vx = sc->vy = NULL;
     sc->source = NULL;
     sc->line = NULL;

@@ -41,6 +41,9 @@ const psim_model *psim_model_find(const char *name)
 
 const char *psim_default_model(const psim_scene *sc)
 {
+    const psim_model *m = sc->restart.present ? psim_model_find(sc->restart.model) : NULL;
+    if (m)   /* a restart file: the model that wrote it */
+        return m->name;
     return sc->format == PSIM_SCENE_2019    ? "ccd"
            : sc->format == PSIM_SCENE_CS267 ? "force"
                                             : "discrete";

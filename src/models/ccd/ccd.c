@@ -111,6 +111,26 @@ static long first_outside(const psim_sim *e)
     return -1;
 }
 
+/* Restart files carry each disk's collision counts, which the authors'
+ * program prints with the last step. */
+static void restart_save(const psim_sim *e, const void *p, int k, double *by_id)
+{
+    const cmodel *m = p;
+    const int64_t *c = k ? m->wcoll : m->pcoll;
+    for (long i = 0; i < e->n; i++)
+        by_id[i] = (double)c[i];
+}
+
+static void restart_load(const psim_sim *e, const psim_scene *sc, cmodel *m)
+{
+    const double *pc = psim_engine_restart_column(e, sc, "pair_collisions");
+    const double *wc = psim_engine_restart_column(e, sc, "wall_collisions");
+    for (long i = 0; pc && wc && i < e->n; i++) {
+        m->pcoll[i] = (int64_t)pc[i];
+        m->wcoll[i] = (int64_t)wc[i];
+    }
+}
+
 static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
 {
     long out = first_outside(e);
@@ -149,6 +169,7 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
         !m->ord2 || !m->busy || !m->best || !m->pcoll || !m->wcoll || !m->lists || !m->off || !m->head ||
         fit_grid(e, m, velocities(e, 0).vmax, &regridded))
         goto oom;
+    restart_load(e, sc, m);
     return m;
 oom:
     destroy(m);
@@ -322,6 +343,8 @@ const psim_model psim_model_ccd = {
     .interact = interact,
     .check = ccd_check,
     .write_state = write_state,
+    .restart_cols = {"pair_collisions", "wall_collisions", NULL},
+    .restart_save = restart_save,
     .step_summary = step_summary,
     .destroy = destroy,
 };

@@ -115,6 +115,45 @@ static int too_many_events(const psim_sim *e, const emodel *m, psim_error *err)
     return 1;
 }
 
+/* Restart files carry each disk as the model keeps it: its state at its
+ * own time (the time of its last event), its cell (moved at crossing
+ * events, not recomputed from the position) and its last partner.  From
+ * these the calendar is predicted afresh at the file's time: every event
+ * still to come is a function of the two disks' states alone, so the run
+ * goes on with the same events at the same times, bit for bit. */
+enum { ER_T, ER_X, ER_Y, ER_CX, ER_CY, ER_LAST, ER_COLS };
+static const char *const restart_names[ER_COLS] = {"t_own", "x_own",  "y_own",
+                                                   "cell_x", "cell_y", "last"};
+
+static void restart_save(const psim_sim *e, const void *p, int k, double *by_id)
+{
+    const emodel *m = p;
+    for (long i = 0; i < e->n; i++) {
+        const edisk *d = &m->d[i];
+        const double v[ER_COLS] = {d->t, d->x, d->y, d->cx, d->cy, d->last};
+        by_id[i] = v[k];
+    }
+}
+
+/* The disks at their own times, if sc is this model's restart file with
+ * all its columns (checked for overlaps at the file's time before). */
+static void restart_load(const psim_sim *e, const psim_scene *sc, emodel *m)
+{
+    const double *c[ER_COLS];
+    for (int k = 0; k < ER_COLS; k++)
+        if (!(c[k] = psim_engine_restart_column(e, sc, restart_names[k])))
+            return;
+    for (long i = 0; i < m->n; i++) {
+        edisk *d = &m->d[i];
+        event_cell_remove(m, (int32_t)i);
+        d->t = c[ER_T][i], d->x = c[ER_X][i], d->y = c[ER_Y][i];
+        d->cx = c[ER_CX][i] >= 0 && c[ER_CX][i] < m->G ? (int32_t)c[ER_CX][i] : cell_of(m, d->x);
+        d->cy = c[ER_CY][i] >= 0 && c[ER_CY][i] < m->G ? (int32_t)c[ER_CY][i] : cell_of(m, d->y);
+        d->last = c[ER_LAST][i] >= 0 && c[ER_LAST][i] < (double)m->n ? (int32_t)c[ER_LAST][i] : -1;
+        event_cell_insert(m, (int32_t)i);
+    }
+}
+
 static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
 {
     emodel *m = calloc(1, sizeof *m);
@@ -133,6 +172,7 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
     for (long i = 0; i < m->n; i++) {
         m->d[i].x = st->x[i], m->d[i].y = st->y[i];
         m->d[i].vx = st->vx[i], m->d[i].vy = st->vy[i];
+        m->d[i].t = (double)e->step;   /* time goes on from a restart file's */
         m->d[i].cx = cell_of(m, m->d[i].x);
         m->d[i].cy = cell_of(m, m->d[i].y);
         event_cell_insert(m, (int32_t)i);
@@ -155,6 +195,8 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
         destroy(m);
         return NULL;
     }
+    m->now = (double)e->step;
+    restart_load(e, sc, m);
     if (event_predict_all(e, m))
         goto oom;
     e->stats.value[EV_KINETIC0] = e->stats.value[EV_KINETIC] = kinetic(m);
@@ -254,6 +296,8 @@ const psim_model psim_model_event = {
     .output = {.final = 1},
     .output_digits = -1,
     .sorts_itself = 1,
+    .restart_cols = {"t_own", "x_own", "y_own", "cell_x", "cell_y", "last", NULL},
+    .restart_save = restart_save,
     .options = {{"calendar", "1: Paul's calendar (buckets and a small heap, default); "
                              "0: one binary heap (the baseline)", 0, 1},
                 {NULL, NULL, 0, 0}},

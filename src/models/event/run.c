@@ -185,12 +185,18 @@ static int cross(psim_sim *e, emodel *m, int32_t a, int axis)
     return schedule(e, m, a);
 }
 
+/* A disk's state (position at its own time) changes only with its path,
+ * at collisions and wall hits, not at cell crossings: every prediction
+ * in the calendar that is still valid (its disks' path counts unchanged)
+ * is then a function of the two disks' current states alone, whenever it
+ * was made, so the calendar predicted afresh from those states (a restart
+ * file's) holds the same events at the same times, bit for bit. */
 static int process(psim_sim *e, emodel *m, const eevent *ev)
 {
     int32_t a = ev->a, b = ev->b;
     m->now = ev->t;
-    advance(m, a, ev->t);
     if (b >= 0) {
+        advance(m, a, ev->t);
         advance(m, b, ev->t);
         collide(m, a, b);
         m->d[a].cnt++, m->d[b].cnt++;
@@ -199,6 +205,7 @@ static int process(psim_sim *e, emodel *m, const eevent *ev)
         return event_predict_disk(e, m, a) || event_predict_disk(e, m, b) ? -1 : 0;
     }
     if (b == EV_WALL_X || b == EV_WALL_Y) {
+        advance(m, a, ev->t);
         double *v = b == EV_WALL_X ? &m->d[a].vx : &m->d[a].vy;
         m->wall_impulse += 2 * fabs(*v);
         *v = -*v;

@@ -1,0 +1,153 @@
+/* Restart files: the state as a scene that psim reads back, with what a
+ * run needs to go on exactly as if it had not stopped (docs/formats.md,
+ * "Restart files"): the steps done, the model and its options, the grid
+ * plan the model asked for, the particles in the store's order (the
+ * discrete model resolves contacts in that order) and the model's own
+ * columns (ccd: its collision counts; event: each disk's own time). */
+#include <stdlib.h>
+#include <string.h>
+
+#include <omp.h>
+
+#include "engine.h"
+#include "mem.h"
+#include "../io/fmt.h"
+#include "../io/restart.h"
+
+int psim_engine_restart_init(psim_sim *e, psim_scene *sc)
+{
+    const psim_restart *rs = &sc->restart;
+    e->format = sc->format;
+    e->print = sc->print;
+    if (!rs->present)
+        return 0;
+    e->step = e->step0 = rs->step;
+    if (strcmp(rs->model, e->model->name))
+        return 0;   /* another model's plan and order are not this one's */
+    if (rs->has_grid) {
+        e->grid_saved = 1;
+        e->grid_saved_bbox = rs->grid_has_bbox;
+        memcpy(e->grid_saved_ask, rs->grid, sizeof rs->grid);
+    }
+    if (rs->order && e->n > 0) {
+        e->restart_order = malloc((size_t)e->n * sizeof *e->restart_order);
+        if (!e->restart_order)
+            return -1;
+        memcpy(e->restart_order, rs->order, (size_t)e->n * sizeof *e->restart_order);
+    }
+    return 0;
+}
+
+/* Before the first sort the store is in id order: place i holds id i. */
+void psim_engine_restart_order(psim_sim *e)
+{
+    psim_store *s = &e->st;
+    const int32_t *o = e->restart_order;
+    const long n = (long)s->n;
+#pragma omp parallel for schedule(static) num_threads(e->threads) if (n > 65536)
+    for (long k = 0; k < n; k++) {
+        int32_t i = o[k];
+        s->x2[k] = s->x[i], s->y2[k] = s->y[i];
+        s->vx2[k] = s->vx[i], s->vy2[k] = s->vy[i];
+        s->id2[k] = s->id[i];
+    }
+    psim_store_swap(s);
+    free(e->restart_order);
+    e->restart_order = NULL;
+}
+
+const double *psim_engine_restart_column(const psim_sim *e, const psim_scene *sc,
+                                         const char *name)
+{
+    return psim_restart_column(sc, e->model->name, name);
+}
+
+static const char *format_name(psim_scene_format f)
+{
+    return f == PSIM_SCENE_2019 ? "2019" : f == PSIM_SCENE_CS267 ? "cs267" : "2024";
+}
+
+/* " KEY=A,B,C" of n numbers. */
+static int put_numbers(FILE *f, const char *key, const double *v, int n)
+{
+    char b[PSIM_FMT_MAX];
+    if (fprintf(f, " %s=", key) < 0)
+        return -1;
+    for (int k = 0; k < n; k++) {
+        psim_fmt_shortest(b, v[k]);
+        if (fprintf(f, "%s%s", k ? "," : "", b) < 0)
+            return -1;
+    }
+    return 0;
+}
+
+static int put_header(FILE *f, const psim_sim *e, long steps)
+{
+    const psim_model *m = e->model;
+    char b[PSIM_FMT_MAX];
+    if (fprintf(f, "#psim restart 1 model=%s step=%ld format=%s print=%d", m->name, e->step,
+                format_name(e->format), e->print) < 0)
+        return -1;
+    for (int k = 0, any = 0; k < PSIM_MODEL_OPTIONS && m->options[k].name; k++)
+        if (e->opt_set[k]) {
+            psim_fmt_shortest(b, e->opt_value[k]);
+            if (fprintf(f, "%s%s=%s", any++ ? "," : " options=", m->options[k].name, b) < 0)
+                return -1;
+        }
+    if (e->grid_asked &&
+        put_numbers(f, "grid", e->grid_ask, e->grid_ask_bbox ? 7 : 3))
+        return -1;
+    for (int k = 0; m->restart_cols[k]; k++)
+        if (fprintf(f, "%s%s", k ? "," : " columns=", m->restart_cols[k]) < 0)
+            return -1;
+    char l[PSIM_FMT_MAX], r[PSIM_FMT_MAX];
+    psim_fmt_shortest(l, e->L);
+    psim_fmt_shortest(r, e->r);
+    return fprintf(f, "\n%ld\n%s\n%s\n%ld\n", e->n, l, r, steps) < 0 ? -1 : 0;
+}
+
+typedef struct restart_lines {
+    const psim_store *st;
+    double *col[PSIM_RESTART_COLS];
+    int ncols;
+} restart_lines;
+
+#define RESTART_LINE_MAX (24 + (4 + PSIM_RESTART_COLS) * (PSIM_FMT_MAX + 1))
+
+/* The particle at store place k: "i x y vx vy" and the model's columns. */
+static size_t restart_line(char *out, long k, const void *vctx)
+{
+    const restart_lines *c = vctx;
+    const psim_store *s = c->st;
+    int32_t i = s->id[k];
+    char *p = psim_fmt_long(out, i);
+    const double v[4] = {s->x[k], s->y[k], s->vx[k], s->vy[k]};
+    for (int q = 0; q < 4; q++) {
+        *p++ = ' ';
+        p += psim_fmt_shortest(p, v[q]);
+    }
+    for (int q = 0; q < c->ncols; q++) {
+        *p++ = ' ';
+        p += psim_fmt_shortest(p, c->col[q][i]);
+    }
+    *p++ = '\n';
+    return (size_t)(p - out);
+}
+
+int psim_write_restart(psim_sim *e, FILE *f, long steps)
+{
+    restart_lines c = {.st = &e->st};
+    int rc = -1;
+    for (; c.ncols < PSIM_RESTART_COLS && e->model->restart_cols[c.ncols]; c.ncols++) {
+        c.col[c.ncols] = psim_alloc((size_t)(e->n > 0 ? e->n : 1) * sizeof(double));
+        if (!c.col[c.ncols])
+            goto done;
+        e->model->restart_save(e, e->mstate, c.ncols, c.col[c.ncols]);
+    }
+    if (put_header(f, e, steps) == 0)
+        rc = psim_write_lines(f, e->n, e->threads, RESTART_LINE_MAX, restart_line, &c);
+done:
+    for (int q = 0; q < PSIM_RESTART_COLS; q++)
+        psim_free(c.col[q]);
+    return rc;
+}
