@@ -56,6 +56,9 @@ typedef struct psim_restart {
     char colname[PSIM_RESTART_COLS][24];
     double *col[PSIM_RESTART_COLS];  /* n each, by id */
     int32_t *order;             /* n: the ids in the file's order */
+    int nvalues;                /* the model's measured values (sums kept */
+    char valname[8][24];        /* over the steps so far) */
+    double value[8];
 } psim_restart;
 
 /* A scene, by particle id 0..n-1. */

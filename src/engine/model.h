@@ -57,6 +57,9 @@ typedef struct psim_model {
     psim_model_skip skips[PSIM_SKIPS_MAX + 1];          /* stage NULL ends them */
     int sorts_itself;   /* the engine does not sort every step: the model
                          * calls psim_engine_sort when it needs to */
+    int follows_order;  /* its results depend on the store's order (the
+                         * order of equal keys the sort keeps): restart
+                         * files list the particles in that order, not by id */
 
     void *(*create)(struct psim_sim *e, const psim_scene *sc, psim_error *err);
     void (*drift)(struct psim_sim *e, void *m);                 /* optional */
@@ -114,6 +117,11 @@ double psim_engine_option(const struct psim_sim *e, const char *name, double dfl
  * written by this model; else NULL (the model starts afresh). */
 const double *psim_engine_restart_column(const struct psim_sim *e, const psim_scene *sc,
                                          const char *name);
+/* The restart file's value of the model's measured quantity called name
+ * (its stats value when the file was written), likewise: 0 with *v set,
+ * or -1. */
+int psim_engine_restart_value(const struct psim_sim *e, const psim_scene *sc,
+                              const char *name, double *v);
 /* Index of the counter called name in the stats (-1 if none). */
 int psim_engine_counter(const struct psim_sim *e, const char *name);
 

@@ -1,9 +1,10 @@
 /* Restart files: the state as a scene that psim reads back, with what a
  * run needs to go on exactly as if it had not stopped (docs/formats.md,
  * "Restart files"): the steps done, the model and its options, the grid
- * plan the model asked for, the particles in the store's order (the
- * discrete model resolves contacts in that order) and the model's own
- * columns (ccd: its collision counts; event: each disk's own time). */
+ * plan the model asked for, the particles in the store's order where the
+ * model's results follow it (the discrete model resolves contacts in that
+ * order; others by id) and the model's own columns (ccd: its collision
+ * counts; event: each disk's own time). */
 #include <stdlib.h>
 #include <string.h>
 
@@ -29,7 +30,7 @@ int psim_engine_restart_init(psim_sim *e, psim_scene *sc)
         e->grid_saved_bbox = rs->grid_has_bbox;
         memcpy(e->grid_saved_ask, rs->grid, sizeof rs->grid);
     }
-    if (rs->order && e->n > 0) {
+    if (e->model->follows_order && rs->order && e->n > 0) {
         e->restart_order = malloc((size_t)e->n * sizeof *e->restart_order);
         if (!e->restart_order)
             return -1;
@@ -60,6 +61,12 @@ const double *psim_engine_restart_column(const psim_sim *e, const psim_scene *sc
                                          const char *name)
 {
     return psim_restart_column(sc, e->model->name, name);
+}
+
+int psim_engine_restart_value(const psim_sim *e, const psim_scene *sc, const char *name,
+                              double *v)
+{
+    return psim_restart_value(sc, e->model->name, name, v);
 }
 
 static const char *format_name(psim_scene_format f)
@@ -97,6 +104,11 @@ static int put_header(FILE *f, const psim_sim *e, long steps)
     if (e->grid_asked &&
         put_numbers(f, "grid", e->grid_ask, e->grid_ask_bbox ? 7 : 3))
         return -1;
+    for (int k = 0; k < e->stats.nvalues; k++) {
+        psim_fmt_shortest(b, e->stats.value[k]);
+        if (fprintf(f, "%s%s:%s", k ? "," : " values=", e->stats.value_name[k], b) < 0)
+            return -1;
+    }
     for (int k = 0; m->restart_cols[k]; k++)
         if (fprintf(f, "%s%s", k ? "," : " columns=", m->restart_cols[k]) < 0)
             return -1;
@@ -108,17 +120,20 @@ static int put_header(FILE *f, const psim_sim *e, long steps)
 
 typedef struct restart_lines {
     const psim_store *st;
+    const int32_t *at;      /* NULL: in the store's order; else by id */
     double *col[PSIM_RESTART_COLS];
     int ncols;
 } restart_lines;
 
 #define RESTART_LINE_MAX (24 + (4 + PSIM_RESTART_COLS) * (PSIM_FMT_MAX + 1))
 
-/* The particle at store place k: "i x y vx vy" and the model's columns. */
-static size_t restart_line(char *out, long k, const void *vctx)
+/* Line j: "i x y vx vy" and the model's columns of the particle at store
+ * place j, or of id j. */
+static size_t restart_line(char *out, long j, const void *vctx)
 {
     const restart_lines *c = vctx;
     const psim_store *s = c->st;
+    long k = c->at ? c->at[j] : j;
     int32_t i = s->id[k];
     char *p = psim_fmt_long(out, i);
     const double v[4] = {s->x[k], s->y[k], s->vx[k], s->vy[k]};
@@ -137,7 +152,15 @@ static size_t restart_line(char *out, long k, const void *vctx)
 int psim_write_restart(psim_sim *e, FILE *f, long steps)
 {
     restart_lines c = {.st = &e->st};
+    psim_cols by_id = {0};
     int rc = -1;
+    /* the store's order where the model's results follow it; else by id,
+     * whatever order the model last sorted into */
+    if (!e->model->follows_order) {
+        if (psim_state_cols_take(e, &by_id))
+            goto done;
+        c.at = by_id.at;
+    }
     for (; c.ncols < PSIM_RESTART_COLS && e->model->restart_cols[c.ncols]; c.ncols++) {
         c.col[c.ncols] = psim_alloc((size_t)(e->n > 0 ? e->n : 1) * sizeof(double));
         if (!c.col[c.ncols])
@@ -147,6 +170,7 @@ int psim_write_restart(psim_sim *e, FILE *f, long steps)
     if (put_header(f, e, steps) == 0)
         rc = psim_write_lines(f, e->n, e->threads, RESTART_LINE_MAX, restart_line, &c);
 done:
+    psim_state_cols_free(&by_id);
     for (int q = 0; q < PSIM_RESTART_COLS; q++)
         psim_free(c.col[q]);
     return rc;

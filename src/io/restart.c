@@ -1,7 +1,7 @@
 /* The parts of a restart file (--restart) beyond a scene: its first line,
  *   #psim restart 1 model=NAME step=K [format=2024|2019|cs267] [print=0|1]
  *                   [options=K=V,...] [grid=REACH,OCC,TILE[,X0,Y0,X1,Y1]]
- *                   [columns=NAME,...]
+ *                   [values=NAME:V,...] [columns=NAME,...]
  * and the order of its particle lines (the run's own order, which the
  * discrete model's results follow).  The scene reader calls these; the
  * engine writes the file (src/engine/restart.c). */
@@ -65,6 +65,25 @@ static int column_names(psim_restart *rs, const char *v)
     return rs->ncols > 0 ? 0 : -1;
 }
 
+/* NAME:V,NAME:V: the model's values. */
+static int value_list(psim_restart *rs, const char *v)
+{
+    rs->nvalues = 0;
+    while (*v) {
+        size_t len = strcspn(v, ":,");
+        if (rs->nvalues == 8 || v[len] != ':' || !word_ok(v, len, sizeof rs->valname[0]))
+            return -1;
+        memcpy(rs->valname[rs->nvalues], v, len);
+        rs->valname[rs->nvalues][len] = '\0';
+        const char *end = psim_scan_double(v + len + 1, &rs->value[rs->nvalues]);
+        if (!end || (*end && *end != ',') || (*end && !end[1]))
+            return -1;
+        rs->nvalues++;
+        v = *end ? end + 1 : end;
+    }
+    return rs->nvalues > 0 ? 0 : -1;
+}
+
 /* One KEY=VALUE of the header into sc. */
 static int header_key(psim_scene *sc, const char *tok, size_t len, const char *name,
                       long line, psim_error *err)
@@ -115,6 +134,9 @@ static int header_key(psim_scene *sc, const char *tok, size_t len, const char *n
                        "grid must be REACH,OCC,TILE or REACH,OCC,TILE,X0,Y0,X1,Y1, got", v);
         rs->has_grid = 1;
         rs->grid_has_bbox = k == 7;
+    } else if (!strcmp(t, "values")) {
+        if (value_list(rs, v))
+            return bad(err, name, line, "values must be NAME:NUMBER,..., got", v);
     } else if (!strcmp(t, "columns")) {
         rs->ncols = 0;
         if (column_names(rs, v))
@@ -200,6 +222,19 @@ void psim_restart_free(psim_restart *rs)
     rs->order = NULL;
     for (int c = 0; c < PSIM_RESTART_COLS; c++)
         rs->col[c] = NULL;
+}
+
+int psim_restart_value(const psim_scene *sc, const char *model, const char *name, double *v)
+{
+    const psim_restart *rs = &sc->restart;
+    if (!rs->present || strcmp(rs->model, model))
+        return -1;
+    for (int k = 0; k < rs->nvalues; k++)
+        if (!strcmp(rs->valname[k], name)) {
+            *v = rs->value[k];
+            return 0;
+        }
+    return -1;
 }
 
 const double *psim_restart_column(const psim_scene *sc, const char *model, const char *name)

@@ -15,5 +15,8 @@ int psim_restart_order(psim_scene *sc, psim_error *err);
 void psim_restart_free(psim_restart *rs);
 /* The column called name if the file was written by model (by id), or NULL. */
 const double *psim_restart_column(const psim_scene *sc, const char *model, const char *name);
+/* The model's value called name if the file was written by model: 0 with
+ * *v set, or -1. */
+int psim_restart_value(const psim_scene *sc, const char *model, const char *name, double *v);
 
 #endif

@@ -207,6 +207,7 @@ const psim_model psim_model_discrete = {
     .output = {.final = 1},
     .output_digits = -1,
     .step_summary = step_summary,
+    .follows_order = 1,
     .create = create,
     .drift = discrete_drift,
     .interact = interact,

@@ -137,12 +137,23 @@ static void restart_save(const psim_sim *e, const void *p, int k, double *by_id)
 
 /* The disks at their own times, if sc is this model's restart file with
  * all its columns (checked for overlaps at the file's time before). */
-static void restart_load(const psim_sim *e, const psim_scene *sc, emodel *m)
+static void restart_load(psim_sim *e, const psim_scene *sc, emodel *m)
 {
     const double *c[ER_COLS];
+    double k0;
     for (int k = 0; k < ER_COLS; k++)
         if (!(c[k] = psim_engine_restart_column(e, sc, restart_names[k])))
             return;
+    /* the sums go on too (the thermo's pressure is their change) */
+    if (psim_engine_restart_value(e, sc, "virial", &m->virial) ||
+        psim_engine_restart_value(e, sc, "wall_impulse", &m->wall_impulse) ||
+        psim_engine_restart_value(e, sc, "kinetic0", &k0))
+        m->virial = m->wall_impulse = 0;
+    else {
+        e->stats.value[EV_KINETIC0] = k0;
+        e->stats.value[EV_VIRIAL] = m->virial;
+        e->stats.value[EV_WALL_IMPULSE] = m->wall_impulse;
+    }
     for (long i = 0; i < m->n; i++) {
         edisk *d = &m->d[i];
         event_cell_remove(m, (int32_t)i);
@@ -196,10 +207,10 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
         return NULL;
     }
     m->now = (double)e->step;
+    e->stats.value[EV_KINETIC0] = e->stats.value[EV_KINETIC] = kinetic(m);
     restart_load(e, sc, m);
     if (event_predict_all(e, m))
         goto oom;
-    e->stats.value[EV_KINETIC0] = e->stats.value[EV_KINETIC] = kinetic(m);
     return m;
 oom:
     destroy(m);
