@@ -16,6 +16,7 @@
 typedef struct run_opts {
     const char *scene, *out, *trace, *final, *stats, *model, *thermo_file, *dump, *restart;
     long dump_every;        /* --dump-every N (default 1) */
+    long restart_every;     /* --restart-every N (0: at the end only) */
     long threads, steps, digits, tile, substeps;
     long thermo;            /* --thermo N (0: none; LONG_MAX: first and last) */
     long n;                 /* -n: the model's own initial state (-1: none) */
@@ -87,6 +88,9 @@ static void run_usage(FILE *f)
 "                    on from: 'psim FILE' runs the next steps exactly as an\n"
 "                    unbroken run would (steps numbered on; any model reads\n"
 "                    it as a scene)\n"
+"      --restart-every N  also write it every N steps, each replacing the\n"
+"                    last, with the steps left to run: 'psim FILE' after a\n"
+"                    killed run ends where the whole run would have\n"
 "      --dump FILE   write frames in extended XYZ (OVITO, VMD, ASE;\n"
 "                    scripts/animate): steps 0, N, 2N, ... and the last\n"
 "      --dump-every N  the frame interval of --dump (default 1)\n"
@@ -237,6 +241,7 @@ static int parse_run(int argc, char **argv, run_opts *o)
         {"dump", required_argument, 0, 'D'},
         {"dump-every", required_argument, 0, 'E'},
         {"restart", required_argument, 0, 'W'},
+        {"restart-every", required_argument, 0, 'X'},
         {0, 0, 0, 0}};
     memset(o, 0, sizeof *o);
     o->steps = -1;
@@ -273,6 +278,7 @@ static int parse_run(int argc, char **argv, run_opts *o)
         case 'Y': o->thermo_file = optarg; break;
         case 'D': o->dump = optarg; break;
         case 'W': o->restart = optarg; break;
+        case 'X': if (cli_long("--restart-every", optarg, 1, PSIM_MAX_STEPS, &o->restart_every)) return 2; break;
         case 'E': if (cli_long("--dump-every", optarg, 1, PSIM_MAX_STEPS, &o->dump_every)) return 2; break;
         case 'L':
             if (cli_long("--tile", optarg, 1, 1 << 20, &o->tile)) return 2;
@@ -301,6 +307,11 @@ static int parse_run(int argc, char **argv, run_opts *o)
     }
     if (!o->dump_every)
         o->dump_every = 1;
+    if (o->restart_every && (!o->restart || !strcmp(o->restart, "-"))) {
+        fprintf(stderr, "psim: --restart-every needs --restart FILE (a file: each checkpoint "
+                        "replaces the last)\n");
+        return 2;
+    }
     if (o->thermo_file && !o->thermo)
         o->thermo = LONG_MAX;   /* as LAMMPS' thermo 0: the first and last steps */
     if (o->quiet && o->report) {
@@ -551,6 +562,26 @@ static int write_step(const run_opts *o, psim_sim *s, long k, long last, run_sta
     return 0;
 }
 
+/* --restart-every: the state after step k as the restart file, in place
+ * of the last one (renamed into place, so a run killed at any time leaves
+ * a whole file); its step count is what remains of the run, so running it
+ * ends where this run will. */
+static int checkpoint(const run_opts *o, psim_sim *s, run_state *rs, long k, long last,
+                      psim_error *err)
+{
+    if (!o->restart_every || k % o->restart_every || k == last)
+        return 0;
+    if (write_restart(o, s, &rs->restart, last - k)) {
+        set_write_failed(err, o->restart);
+        return -1;
+    }
+    if (outfile_commit(&rs->restart) || outfile_open(&rs->restart, o->restart)) {
+        psim_error_set(err, "%s: checkpoint failed", o->restart);
+        return -1;
+    }
+    return 0;
+}
+
 /* The first step whose state is not finite, found again: a state that
  * overflowed is seen at step `seen`, and the last check before it was at
  * step `checked` (finite).  The run is deterministic, so a second engine
@@ -646,7 +677,7 @@ static int simulate(const run_opts *o, psim_sim *s, const psim_scene *sc,
             }
             check_s = psim_now() - t1, steps_s = 0, checked = k;
         }
-        if (write_step(o, s, k, last, rs, err))
+        if (write_step(o, s, k, last, rs, err) || checkpoint(o, s, rs, k, last, err))
             rc = -1;
         else if (thermo_step(&rs->th, s, k, last)) {
             psim_error_set(err, "out of memory for --thermo");

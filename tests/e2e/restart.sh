@@ -95,6 +95,13 @@ grep -q "columns=t_own,x_own,y_own,cell_x,cell_y,last" "$tmp/event.one.rs" ||
     fail "event: no own-time columns"
 run_ok "$PSIM" -q --check "$tmp/event.one.rs"
 
+# a sub-stepped run's restart holds velocities per sub-step: it goes on
+# without --substeps
+run_ok "$PSIM" -q --model ccd --substeps 2 --steps 6 --final "$tmp/sub.full" "$tmp/dense.in"
+run_ok "$PSIM" -q --model ccd --substeps 2 --steps 3 --restart "$tmp/sub.rs" "$tmp/dense.in"
+run_ok "$PSIM" -q --final "$tmp/sub.two" "$tmp/sub.rs"
+cmp -s "$tmp/sub.full" "$tmp/sub.two" || fail "a sub-stepped run differs after a restart"
+
 # any model reads a restart file as a scene; steps go on from the file's
 run_ok "$PSIM" -q --model discrete --steps 2 --trace "$tmp/x.trace" "$tmp/event.one.rs"
 [[ $(head -1 "$tmp/x.trace" | cut -d' ' -f1) == $((S + 1)) ]] || fail "steps not numbered on"
@@ -103,6 +110,23 @@ run_ok "$PSIM" -q --steps 0 --restart "$tmp/zero.rs" "$tmp/dense.in"
 run_ok "$PSIM" -q --steps $S --final "$tmp/zero.final" "$tmp/zero.rs"
 run_ok "$PSIM" -q --steps $S --final "$tmp/plain.final" "$tmp/dense.in"
 cmp -s "$tmp/zero.final" "$tmp/plain.final" || fail "a 0-step restart changed the run"
+
+# --restart-every: a run that dies leaves its last checkpoint, whose step
+# count is what remained; running it ends where the whole run ends.  The
+# run dies of a closed pipe (its trace to head) some 10 steps in.
+run_ok "$PSIM" gen -n 50 -L 40 -s 200 --seed 9 -o "$tmp/small.in"
+run_ok "$PSIM" -q --final "$tmp/whole.final" "$tmp/small.in"
+("$PSIM" -q --trace - --restart-every 3 --restart "$tmp/ck.rs" "$tmp/small.in" 2>/dev/null;
+ echo $? >"$tmp/ck.rc") | head -c 30000 >/dev/null || true
+[[ $(cat "$tmp/ck.rc") != 0 ]] || fail "the run meant to die finished"
+[[ -s $tmp/ck.rs ]] || fail "no checkpoint left"
+c=$(head -1 "$tmp/ck.rs" | sed 's/.* step=\([0-9]*\) .*/\1/')
+(( c >= 3 && c % 3 == 0 && c < 200 )) || fail "checkpoint at step $c"
+[[ $(sed -n 5p "$tmp/ck.rs") == $((200 - c)) ]] || fail "checkpoint's steps are not those left"
+run_ok "$PSIM" -q --final "$tmp/resumed.final" "$tmp/ck.rs"
+cmp -s "$tmp/whole.final" "$tmp/resumed.final" || fail "a resumed run ends elsewhere"
+[[ -z $(find "$tmp" -name 'ck.rs.tmp*') ]] || fail "a checkpoint's temporary file was left"
+expect_fail --rc 2 "--restart-every needs --restart" "$PSIM" "$tmp/small.in" --restart-every 2
 
 # errors: one line naming the file and line, no partial output
 rs=$tmp/event.one.rs
