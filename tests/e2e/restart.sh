@@ -97,9 +97,9 @@ run_ok "$PSIM" -q --check "$tmp/event.one.rs"
 
 # a sub-stepped run's restart holds velocities per sub-step: it goes on
 # without --substeps
-run_ok "$PSIM" -q --model ccd --substeps 2 --steps 6 --final "$tmp/sub.full" "$tmp/dense.in"
-run_ok "$PSIM" -q --model ccd --substeps 2 --steps 3 --restart "$tmp/sub.rs" "$tmp/dense.in"
-run_ok "$PSIM" -q --final "$tmp/sub.two" "$tmp/sub.rs"
+run_ok "$PSIM" -q --model ccd --substeps 2 --steps 6 --final "$tmp/sub.full" -o "$tmp/sub.o1" "$tmp/dense.in"
+run_ok "$PSIM" -q --model ccd --substeps 2 --steps 3 --restart "$tmp/sub.rs" -o "$tmp/sub.o2" "$tmp/dense.in"
+run_ok "$PSIM" -q --final "$tmp/sub.two" -o "$tmp/sub.o3" "$tmp/sub.rs"
 cmp -s "$tmp/sub.full" "$tmp/sub.two" || fail "a sub-stepped run differs after a restart"
 
 # any model reads a restart file as a scene; steps go on from the file's
