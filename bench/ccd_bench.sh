@@ -70,7 +70,7 @@ for n, name in ((10**4, "slow_1e4"), (10**5, "slow_1e5"), (10**6, "slow_1e6")):
 EOF
 
 # --- helpers ------------------------------------------------------------------
-median() { python3 -c 'import statistics,sys; print("%.6f" % statistics.median(float(a) for a in sys.argv[1:]))' "$@"; }
+. "$(dirname "$0")/lib.sh"   # median
 
 psim_stat() {  # scene threads key [accept mode] -> median of a --stats value over $runs runs
     local scene=$1 threads=$2 key=$3 mode=${4:-} ts=() i

@@ -37,7 +37,7 @@ rate()   # SCENE CALENDAR STEPS: collisions per second of one run
 print(j["collisions"] / j["phases_s"]["events"])' "$tmp/s.json"
 }
 
-median() { sort -g | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}'; }
+. "$(dirname "$0")/lib.sh"   # median
 
 echo "| N | eta | steps | Paul's calendar, M coll/s | binary heap, M coll/s | ratio |"
 echo "|---:|---:|---:|---:|---:|---:|"

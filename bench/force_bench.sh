@@ -44,7 +44,7 @@ trap 'rm -rf "$tmp"' EXIT
 extra=()
 [ -n "$skin" ] && extra=(--option "skin=$skin")
 
-median() { python3 -c 'import statistics,sys; print("%.6f" % statistics.median(float(a) for a in sys.argv[1:]))' "$@"; }
+. "$(dirname "$0")/lib.sh"   # median
 
 psim_time() {  # n threads -> median time_s
     local n=$1 threads=$2 ts=() i

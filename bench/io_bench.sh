@@ -66,7 +66,7 @@ tmp=$(mktemp -d "${TMPDIR:-/tmp}/io_bench.XXXXXX")
 trap 'rm -rf "$tmp"' EXIT
 export OMP_NUM_THREADS=$threads
 
-median() { sort -g | awk '{v[NR]=$1} END {print (NR % 2) ? v[(NR+1)/2] : (v[NR/2] + v[NR/2+1]) / 2}'; }
+. "$(dirname "$0")/lib.sh"   # median
 field() { python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print(d$2)" "$1"; }
 # wall seconds of a command (stderr of time in $tmp/t)
 wall() { /usr/bin/time -f %e -o "$tmp/t" "$@" >/dev/null 2>&1 && cat "$tmp/t"; }

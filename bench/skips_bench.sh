@@ -50,7 +50,7 @@ PY
 
 # time_s and left_out of a stats file
 field() { python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print(d[sys.argv[2]])" "$1" "$2"; }
-median() { sort -g | awk '{v[NR]=$1} END {print (NR % 2) ? v[(NR+1)/2] : (v[NR/2] + v[NR/2+1]) / 2}'; }
+. "$(dirname "$0")/lib.sh"   # median
 
 printf '| scene | model | skip=0 time_s | skips time_s | left out (steps) | rebuilds |\n|---|---|---:|---:|---|---:|\n'
 for run in "ccd lattice_slow" "ccd lattice_gas" "force lattice_slow" "force lattice_gas" "force course_1e5"; do
