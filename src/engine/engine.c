@@ -97,7 +97,7 @@ static void grid_ask(psim_sim *e, double *reach, const double **bbox, double *oc
         e->grid_saved = 0;
         *reach = e->grid_saved_ask[0];
         *occupancy = e->grid_saved_ask[1];
-        if (!*tile_cells)
+        if (!e->cfg.tile_cells)
             *tile_cells = (int)e->grid_saved_ask[2];
         *bbox = e->grid_saved_bbox ? e->grid_saved_ask + 3 : NULL;
     }
@@ -112,7 +112,14 @@ static void grid_ask(psim_sim *e, double *reach, const double **bbox, double *oc
 
 int psim_engine_grid_occ(psim_sim *e, double reach, const double *bbox, double occupancy)
 {
-    int tile_cells = e->cfg.tile_cells;
+    return psim_engine_grid_tiles(e, reach, bbox, occupancy, 0);
+}
+
+int psim_engine_grid_tiles(psim_sim *e, double reach, const double *bbox, double occupancy,
+                           int tile_cells)
+{
+    if (e->cfg.tile_cells)
+        tile_cells = e->cfg.tile_cells;
     grid_ask(e, &reach, &bbox, &occupancy, &tile_cells);
     psim_sorter_free(&e->sorter);
     psim_grid_free(&e->grid);

@@ -108,6 +108,12 @@ int psim_engine_grid(struct psim_sim *e, double reach, const double *bbox);
 /* The same with cells of about `occupancy` particles (0: the default). */
 int psim_engine_grid_occ(struct psim_sim *e, double reach, const double *bbox,
                          double occupancy);
+/* The same with tiles of tile_cells cells a side (a power of two; 0: about
+ * PSIM_TILE_PARTICLES particles), unless the run set --tile: for a model
+ * whose results do not depend on the tiles, which may then size them by
+ * the thread count. */
+int psim_engine_grid_tiles(struct psim_sim *e, double reach, const double *bbox,
+                           double occupancy, int tile_cells);
 /* Sort the store by cell now (after a re-plan), timed as the sort. */
 void psim_engine_sort(struct psim_sim *e);
 /* Value of the model's option called name (one of its options[]), or dflt

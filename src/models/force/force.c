@@ -38,6 +38,22 @@ static void set_law(flaw *k, const psim_sim *e, const psim_scene *sc)
     k->min_r2 = min_r * min_r;
 }
 
+/* Tiles for the threads: the sums do not depend on the tiles (each
+ * particle's forces are added in the naive loop's order), so with more
+ * than one thread there are at least FORCE_TILES_PER_THREAD tiles a thread
+ * (the engine's default of about 16k particles a tile gives 1e5 particles
+ * 4 tiles, which two threads share unevenly); one thread keeps the
+ * default.  Cells per tile side, a power of two (0: the default). */
+#define FORCE_TILES_PER_THREAD 16
+static int tile_cells(const psim_sim *e)
+{
+    double want = (double)e->n / (FORCE_TILES_PER_THREAD * (double)e->threads);
+    if (e->threads < 2 || want >= PSIM_TILE_PARTICLES)
+        return 0;
+    double side = sqrt((want > 1 ? want : 1) / FORCE_CELL_PARTICLES);
+    return 1 << (int)lround(log2(side));
+}
+
 static void destroy(void *p)
 {
     fmodel *m = p;
@@ -72,7 +88,8 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
             goto oom;
         return m;
     }
-    if (psim_engine_grid_occ(e, m->law.cutoff + m->skin, NULL, FORCE_CELL_PARTICLES))
+    if (psim_engine_grid_tiles(e, m->law.cutoff + m->skin, NULL, FORCE_CELL_PARTICLES,
+                               tile_cells(e)))
         goto oom;
     return m;
 oom:
