@@ -87,17 +87,22 @@ static void clear_lists(dlist *in, dlist *cross)
         cross[d].n = 0;
 }
 
-/* Search cells [c0, c1) of tile tid; pairs go to in / cross[direction]. */
+/* Search cells [c0, c1) of tile tid; pairs go to in / cross[direction].
+ * *tests counts the pairs of disks looked at: the work of the search,
+ * which tells when the grid no longer fits the disks (regrid.c). */
 static inline __attribute__((always_inline)) int
 search_cells(const psim_sim *e, const dmodel *m, uint32_t tid, uint32_t c0, uint32_t c1,
-             dlist *in, dlist *cross, double *d2min, const int nearest_wanted)
+             dlist *in, dlist *cross, double *d2min, uint64_t *tests, const int nearest_wanted)
 {
     const psim_grid *g = &e->grid;
     int bad = 0;
     int tx = g->tile_x[tid], ty = g->tile_y[tid];
+    uint64_t looked = 0;
     for (uint32_t c = c0; c < c1 && !bad; c++) {
-        if (g->cellstart[c] == g->cellstart[c + 1])
+        uint64_t na = g->cellstart[c + 1] - g->cellstart[c];
+        if (na == 0)
             continue;
+        looked += na * (na - 1) / 2;
         bad |= scan_cells(e, m, c, c, in, 1, d2min, nearest_wanted);
         int cx = g->cell_x[c], cy = g->cell_y[c];
         for (int k = 0; k < 4; k++) {
@@ -105,13 +110,16 @@ search_cells(const psim_sim *e, const dmodel *m, uint32_t tid, uint32_t c0, uint
             if (nx < 0 || ny < 0 || nx >= g->G || ny >= g->G)
                 continue;
             uint32_t c2 = g->rank_of_xy[ny * g->G + nx];
-            if (g->cellstart[c2] == g->cellstart[c2 + 1])
+            uint64_t nb = g->cellstart[c2 + 1] - g->cellstart[c2];
+            if (nb == 0)
                 continue;
+            looked += na * nb;
             int dtx = (nx >> g->tile_shift) - tx, dty = (ny >> g->tile_shift) - ty;
             int d = (dtx + 1) + 3 * (dty + 1);
             bad |= scan_cells(e, m, c, c2, d == 4 ? in : &cross[d], 0, d2min, nearest_wanted);
         }
     }
+    *tests = looked;
     return bad;
 }
 
@@ -160,6 +168,7 @@ __attribute__((noinline)) void discrete_find_contacts(psim_sim *e, dmodel *m)
             dchunk *ch = &m->chunks[k];
             clear_lists(&ch->in, ch->cross);
             ch->d2min = INFINITY;
+            ch->tests = 0;
             uint32_t a = g->cellstart[ch->c0], b = g->cellstart[ch->c1];
             if (a == b)
                 continue; /* an empty region: no work */
@@ -168,9 +177,9 @@ __attribute__((noinline)) void discrete_find_contacts(psim_sim *e, dmodel *m)
              * contact: after one that found none (flight.c) */
             int bad = nearest
                           ? search_cells(e, m, ch->tile, ch->c0, ch->c1, &ch->in, ch->cross,
-                                         &ch->d2min, 1)
+                                         &ch->d2min, &ch->tests, 1)
                           : search_cells(e, m, ch->tile, ch->c0, ch->c1, &ch->in, ch->cross,
-                                         &ch->d2min, 0);
+                                         &ch->d2min, &ch->tests, 0);
             ch->oom = (uint8_t)(bad != 0);
             psim_tstat_add(e->tstats, DPHASE_CONTACTS, psim_now() - t0, 1, b - a);
         }
@@ -192,6 +201,11 @@ __attribute__((noinline)) void discrete_find_contacts(psim_sim *e, dmodel *m)
     e->stats.counter[DC_CONTACTS] += found;
     m->step_contacts = found;
     m->d2min = nearest ? INFINITY : 0;
-    for (uint32_t k = 0; k < m->nchunks; k++)
+    uint64_t tests = 0;
+    for (uint32_t k = 0; k < m->nchunks; k++) {
         m->d2min = m->chunks[k].d2min < m->d2min ? m->chunks[k].d2min : m->d2min;
+        tests += m->chunks[k].tests;
+    }
+    m->step_tests = tests;
+    e->stats.counter[DC_SEARCH_TESTS] += tests;
 }

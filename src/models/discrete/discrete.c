@@ -65,11 +65,10 @@ static int build_chunks(const psim_grid *g, dmodel *m)
     return 0;
 }
 
-static void destroy(void *p)
+/* The per-tile state: tiles, their chunks and edges, one dependence
+ * object each, sized from e->grid (made anew after a re-plan). */
+static void tile_state_free(dmodel *m)
 {
-    dmodel *m = p;
-    if (!m)
-        return;
     for (uint32_t t = 0; m->tiles && t < m->ntiles; t++) {
         dtile *d = &m->tiles[t];
         psim_free(d->in.c);
@@ -89,37 +88,46 @@ static void destroy(void *p)
     psim_free(m->tiles);
     psim_free(m->edges);
     psim_free(m->edge_res);
-    psim_free(m->active);
-    psim_free(m->flag);
     psim_free(m->dep);
-    free(m);
+    m->chunks = NULL, m->tile_chunk0 = NULL, m->tiles = NULL;
+    m->edges = NULL, m->edge_res = NULL, m->dep = NULL;
+    m->ntiles = m->nchunks = 0;
+    m->nedges = 0;
 }
 
-/* {xmin, ymin, xmax, ymax} of the disks' centres (the store, in id
- * order before the first sort) */
-static const double *bounding_box(const psim_sim *e, double *b)
+static int tile_state_build(const psim_sim *e, dmodel *m)
 {
-    const psim_store *s = &e->st;
-    b[0] = b[2] = s->x[0];
-    b[1] = b[3] = s->y[0];
-    for (size_t i = 1; i < s->n; i++) {
-        b[0] = fmin(b[0], s->x[i]);
-        b[2] = fmax(b[2], s->x[i]);
-        b[1] = fmin(b[1], s->y[i]);
-        b[3] = fmax(b[3], s->y[i]);
-    }
-    return b;
+    tile_state_free(m);
+    m->ntiles = e->grid.ntiles;
+    m->tiles = psim_calloc(m->ntiles * sizeof *m->tiles);
+    m->dep = psim_calloc(m->ntiles);
+    if (!m->tiles || !m->dep || build_edges(&e->grid, m) || build_chunks(&e->grid, m))
+        return -1;
+    return 0;
+}
+
+static void destroy(void *p)
+{
+    dmodel *m = p;
+    if (!m)
+        return;
+    tile_state_free(m);
+    psim_free(m->active);
+    psim_free(m->flag);
+    free(m);
 }
 
 static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
 {
-    double bbox[4];
+    (void)sc;
     dmodel *m = calloc(1, sizeof *m);
-    /* cells wider than 2r over the disks' bounding box: contacts are in
-     * the same or adjacent cells */
-    if (!m || psim_engine_grid(e, 2.0 * e->r, sc->n > 0 ? bounding_box(e, bbox) : NULL))
+    if (!m)
         goto oom;
-    m->ntiles = e->grid.ntiles;
+    m->rg.enabled = psim_engine_option(e, "regrid", 1) != 0;
+    /* cells wider than 2r over the region the disks occupy: contacts are
+     * in the same or adjacent cells (regrid.c) */
+    if (discrete_plan_grid(e, m))
+        goto oom;
     m->four_r2 = 4.0 * e->r * e->r;
     double settle = psim_engine_option(e, "settle", SETTLE_DEFAULT);
     m->budget = (uint64_t)(settle * (double)(e->n > 0 ? e->n : 1));
@@ -127,18 +135,32 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
     m->fl.gap = -1;
     m->fl.walls = 1;
     m->fl.quiet = 1;   /* the first drift looks at the velocities */
-    m->tiles = psim_calloc(m->ntiles * sizeof *m->tiles);
     m->active = psim_calloc((size_t)e->n + 1);
     m->flag = psim_calloc((size_t)e->n + 1);
-    m->dep = psim_calloc(m->ntiles);
-    if (!m->tiles || !m->active || !m->flag || !m->dep || build_edges(&e->grid, m) ||
-        build_chunks(&e->grid, m))
+    if (!m->active || !m->flag || tile_state_build(e, m))
         goto oom;
     return m;
 oom:
     destroy(m);
     psim_error_set(err, "out of memory for the discrete model");
     return NULL;
+}
+
+/* The sort, and a new grid when the disks have left the old one (the
+ * tiles made anew and the store sorted by it). */
+static int sort_and_fit(psim_sim *e, dmodel *m, psim_error *err)
+{
+    psim_engine_sort(e);
+    int rc;
+    PSIM_TIMED(e, PSIM_PHASE_SORT, rc = discrete_regrid(e, m));
+    if (rc > 0 && tile_state_build(e, m) == 0) {
+        psim_engine_sort(e);
+        return 0;
+    }
+    if (rc == 0)
+        return 0;
+    psim_error_set(err, "out of memory for the grid at step %ld", e->step + 1);
+    return -1;
 }
 
 static int interact(psim_sim *e, void *p, psim_error *err)
@@ -150,9 +172,11 @@ static int interact(psim_sim *e, void *p, psim_error *err)
             PSIM_TIMED(e, DPHASE_RESOLVE, discrete_walls_only(e, m));
         return 0;
     }
-    psim_engine_sort(e);
+    if (sort_and_fit(e, m, err))
+        return -1;
     PSIM_TIMED(e, DPHASE_CONTACTS, discrete_find_contacts(e, m));
     discrete_flight_searched(e, m);
+    discrete_regrid_searched(e, m);
     for (uint32_t t = 0; t < m->ntiles; t++)
         if (m->tiles[t].oom) {
             psim_error_set(err, "out of memory for contacts at step %ld",
@@ -194,9 +218,12 @@ const psim_model psim_model_discrete = {
     .phases = {"contacts", "resolve", NULL},
     .thermo = {"pair_resolutions", "wall_resolutions", NULL},
     .counters = {"contacts", "rounds", "max_rounds", "pair_checks", "pair_resolutions",
-                 "wall_resolutions", "tasks", "max_step_resolutions", NULL},
+                 "wall_resolutions", "tasks", "max_step_resolutions", "search_tests", "regrids",
+                 NULL},
     .options = {{"settle", "resolutions a step may take per disk before the run stops "
                            "(default 1000)", 1, 1e9},
+                {"regrid", "0: plan the grid once, over the disks' bounding box at the start, "
+                           "and keep it (default 1: follow the disks)", 0, 1},
                 PSIM_SKIP_OPTION,
                 {NULL, NULL, 0, 0}},
     .skips = {[DS_SEARCH] = {"search", "no pair could meet: sort, contacts, resolution"},

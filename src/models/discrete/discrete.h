@@ -24,7 +24,7 @@
 /* The model's own phases and logged quantities (psim_stats). */
 enum { DPHASE_CONTACTS = PSIM_PHASE_MODEL, DPHASE_RESOLVE };
 enum { DC_CONTACTS, DC_ROUNDS, DC_MAX_ROUNDS, DC_PAIR_CHECKS, DC_PAIR_RES,
-       DC_WALL_RES, DC_TASKS, DC_MAX_STEP_RES };
+       DC_WALL_RES, DC_TASKS, DC_MAX_STEP_RES, DC_SEARCH_TESTS, DC_REGRIDS };
 
 /* A contact: disks i < j in store order.  Positions are frozen while
  * collisions are resolved, so dp = p_j - p_i is recomputed from them when
@@ -74,6 +74,7 @@ typedef struct __attribute__((aligned(64))) dchunk {
     dlist in;
     dlist cross[DIRS];
     double d2min;               /* nearest pair seen (squared distance) */
+    uint64_t tests;             /* distance tests made (pairs of disks looked at) */
     uint8_t oom;
 } dchunk;
 
@@ -106,6 +107,15 @@ typedef struct dflight {
     int resting;                /* every velocity is 0 for good */
 } dflight;
 
+/* The grid follows the disks (regrid.c): what the searches since the last
+ * decision cost, and whether the next step decides again. */
+typedef struct dregrid {
+    int enabled;                /* --option regrid (default 1) */
+    int pending;                /* decide before the next search */
+    int have_base;              /* base holds a search since the last decision */
+    uint64_t base;              /* fewest distance tests of those searches */
+} dregrid;
+
 typedef struct dmodel {
     uint32_t ntiles;
     dtile *tiles;
@@ -120,9 +130,11 @@ typedef struct dmodel {
     char *dep;          /* one dependence object per tile */
     double four_r2;
     uint64_t step_contacts;  /* contacts found this step */
+    uint64_t step_tests;     /* distance tests of this step's search */
     uint64_t budget;         /* resolutions a step may take (settle x n) */
     double d2min;            /* nearest pair the last search saw, squared */
     dflight fl;              /* what the scene can use this step (flight.c) */
+    dregrid rg;              /* when the grid is planned again (regrid.c) */
 } dmodel;
 
 /* A step's collisions must settle within this many resolutions (pair and
@@ -143,6 +155,14 @@ typedef struct dgroup {
 } dgroup;
 
 void discrete_find_contacts(psim_sim *e, dmodel *m);
+/* regrid.c: the grid over the region the disks occupy (at the start), and
+ * again when they leave it or gather far inside it.  discrete_regrid runs
+ * after the sort: 1 when it planned the grid again (sort again, and size
+ * the tiles anew), 0 when not, -1 when out of memory. */
+int discrete_plan_grid(psim_sim *e, dmodel *m);
+int discrete_regrid(psim_sim *e, dmodel *m);
+/* After a search: whether its work calls for a decision next step. */
+void discrete_regrid_searched(const psim_sim *e, dmodel *m);
 /* flight.c: the drift with its extents, and the step's choice. */
 void discrete_drift(psim_sim *e, void *m);
 /* Returns 1 when no pair can be in contact after this drift (the search
