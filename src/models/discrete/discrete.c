@@ -176,7 +176,6 @@ static int interact(psim_sim *e, void *p, psim_error *err)
         return -1;
     PSIM_TIMED(e, DPHASE_CONTACTS, discrete_find_contacts(e, m));
     discrete_flight_searched(e, m);
-    discrete_regrid_searched(e, m);
     for (uint32_t t = 0; t < m->ntiles; t++)
         if (m->tiles[t].oom) {
             psim_error_set(err, "out of memory for contacts at step %ld",

@@ -86,8 +86,8 @@ typedef struct dedge {
 /* The model's skips (psim_stats.skipped), in the order of .skips. */
 enum { DS_SEARCH, DS_WALLS, DS_MOVE, DS_GRAPH };
 
-/* What a drift saw: the extent of the positions after it and of the
- * velocities it used. */
+/* What a drift saw: the extent of the positions after it (every step) and
+ * of the velocities it used (when measured). */
 typedef struct dextent {
     double pmin[2], pmax[2];
     double vmin[2], vmax[2];
@@ -100,20 +100,17 @@ typedef struct dflight {
     int enabled;                /* --option skip (default 1) */
     dextent ext;                /* this step's drift */
     int quiet;                  /* the last step changed no velocity */
-    int measured;               /* this step's drift measured the extents */
+    int measured;               /* this step's drift measured the velocities */
+    int drifted;                /* ext holds the positions' extent (a drift ran) */
     double gap;                 /* every pair is more than 2r + gap apart
                                  * after the last drift (< 0: unknown) */
     int walls;                  /* a disk may reach a wall this step */
     int resting;                /* every velocity is 0 for good */
 } dflight;
 
-/* The grid follows the disks (regrid.c): what the searches since the last
- * decision cost, and whether the next step decides again. */
+/* The grid follows the disks (regrid.c). */
 typedef struct dregrid {
     int enabled;                /* --option regrid (default 1) */
-    int pending;                /* decide before the next search */
-    int have_base;              /* base holds a search since the last decision */
-    uint64_t base;              /* fewest distance tests of those searches */
 } dregrid;
 
 typedef struct dmodel {
@@ -161,8 +158,6 @@ void discrete_find_contacts(psim_sim *e, dmodel *m);
  * the tiles anew), 0 when not, -1 when out of memory. */
 int discrete_plan_grid(psim_sim *e, dmodel *m);
 int discrete_regrid(psim_sim *e, dmodel *m);
-/* After a search: whether its work calls for a decision next step. */
-void discrete_regrid_searched(const psim_sim *e, dmodel *m);
 /* flight.c: the drift with its extents, and the step's choice. */
 void discrete_drift(psim_sim *e, void *m);
 /* Returns 1 when no pair can be in contact after this drift (the search

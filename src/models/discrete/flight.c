@@ -1,9 +1,11 @@
 /* Free flight: the stages of a step that a scene cannot use are left out.
  *
- * The drift can measure, in the same pass, the extent of the new positions
- * and of the velocities it used; it does so only when a skip may follow (a
- * gap left by the last search, a search that found no contact, or a step
- * that changed no velocity), so a dense scene pays nothing.  From them:
+ * The drift measures, in the same pass, the extent of the new positions
+ * (every step: a few compares in a loop bound by memory; the grid follows
+ * it, regrid.c) and, only when a skip may follow (a gap left by the last
+ * search, a search that found no contact, or a step that changed no
+ * velocity), of the velocities it used, so a dense scene pays nothing for
+ * the skips.  From them:
  *   - search: a search that finds no contact also gives the nearest pair it
  *     saw, D (pairs in cells that are not neighbours are at least a cell
  *     side h apart, so min(D, h) bounds every pair).  Every velocity is
@@ -92,9 +94,11 @@ __attribute__((noinline)) void discrete_drift(psim_sim *e, void *p)
     dflight *f = &m->fl;
     if (f->resting)
         return;
-    /* the extents matter when a skip may follow: a gap to spend, a search
-     * that found no contact (it leaves a gap), or a step that changed no
-     * velocity (a scene at rest) */
+    /* the velocities' extent matters when a skip may follow: a gap to
+     * spend, a search that found no contact (it leaves a gap), or a step
+     * that changed no velocity (a scene at rest); the positions' extent,
+     * measured in the move itself, every step (the grid follows it:
+     * regrid.c) */
     const int velocities = f->enabled && (f->gap >= 0 || f->quiet || m->step_contacts == 0);
     dextent all;
     extent_init(&all);
@@ -107,16 +111,9 @@ __attribute__((noinline)) void discrete_drift(psim_sim *e, void *p)
         long lo = (long)psim_part_lo((size_t)n, T, k), hi = (long)psim_part_lo((size_t)n, T, k + 1);
         dextent mine;
         extent_init(&mine);
-        if (velocities) {
+        if (velocities)
             velocity_range(s, lo, hi, &mine);
-            drift_range(s, lo, hi, &mine);
-        } else {
-#pragma omp simd
-            for (long i = lo; i < hi; i++) {
-                s->x[i] += s->vx[i];
-                s->y[i] += s->vy[i];
-            }
-        }
+        drift_range(s, lo, hi, &mine);
 #pragma omp critical(discrete_extent)
         extent_merge(&all, &mine);
         psim_tstat_add(e->tstats, PSIM_PHASE_MOVE, psim_now() - t0, 1, (uint64_t)(hi - lo));
@@ -124,6 +121,7 @@ __attribute__((noinline)) void discrete_drift(psim_sim *e, void *p)
     f->ext = all;
     f->ext.nonfinite |= !velocities;
     f->measured = velocities;
+    f->drifted = 1;
 }
 
 /* The rounding of a position as large as the scene's largest. */

@@ -10,22 +10,25 @@
  *   - where: the disks' bounding box, unless leaving out the k = n/1024 + 1
  *     outermost centres on each side of each axis shrinks it more than
  *     twice; then the bounding box of the centres within half that trimmed
- *     box's side of it.  At most 4k far disks are clamped, and a scene
- *     without far disks keeps exactly the plan of its bounding box;
- *   - when: the contact search counts its distance tests (the pairs of
- *     disks it looks at).  A search that makes more than twice the fewest
- *     of the searches on this plan, plus one a disk, asks for a decision at
- *     the next step; border cells (where clamped disks gather) that would
- *     cost that much ask for one before their search;
- *   - what: plan again when the region has grown out of the grid's square
- *     (then with an eighth of its side to spare on each side, cells as small
- *     as without it, so that a growing cluster does not ask again at once),
- *     or shrunk to less than half of it; else keep the grid.  Either way the
- *     count starts afresh, so work that grows with no better plan to be had
- *     (a pile) is looked at once per doubling, not every step.
- * All of it is a function of the positions (counts, and minima and maxima,
- * which do not depend on the order they are taken in), never of the thread
- * count or of time, so the results stay the same for any thread count. */
+ *     box's side of it.  At most 4k far disks are left out (clamped), and a
+ *     scene without far disks gets exactly the plan of its bounding box;
+ *   - when: more than 4k disks lie further than a cell outside the grid's
+ *     square (they have left it: a border cell then spans more than two
+ *     cells' width of them), or the positions' extent has shrunk to less
+ *     than half the square (cells could be half as wide).  The drift
+ *     measures the extent in its own pass (flight.c), and only when it
+ *     reaches past the square are the disks of the border cells counted:
+ *     a normal step pays a few compares;
+ *   - how: a region that has grown is planned with an eighth of its side
+ *     to spare on each side, cells as small as without it, so that a
+ *     growing cluster does not ask again at once.  Right after a plan at
+ *     most 4k disks are outside its square and the extent is more than
+ *     half of it, so every decision changes the plan and none repeats.
+ * The triggers and the plan are functions of the positions and of the
+ * current plan only (counts, and minima and maxima, which do not depend on
+ * the order they are taken in): never of the thread count, of time or of
+ * the run's history, so the results stay the same for any thread count,
+ * and a run restarted with its grid goes on as the unbroken run. */
 #include <float.h>
 #include <math.h>
 #include <string.h>
@@ -36,6 +39,7 @@
 #define RG_SLOTS (RG_BINS + 2)      /* below, the bins, above */
 #define RG_PASSES 6                 /* each pass can narrow an axis 500-fold */
 #define RG_SPARE 0.125              /* room left around a growing region */
+#define RG_SHRINK 0.7071            /* a square this much wider: cells of twice the disks */
 
 /* How many centres on each side of each axis may be left out. */
 static uint64_t outliers(long n)
@@ -71,12 +75,12 @@ static long extent_within(const psim_sim *e, const double *win, double *b)
     return count;
 }
 
-/* The bounding box: the drift's when it measured one (flight.c), else a
- * pass of its own.  0 when no centre is finite. */
+/* The bounding box of the finite centres: the drift's when it measured
+ * them (flight.c), else a pass of its own.  0 when no centre is finite. */
 static int bounding_box(const psim_sim *e, const dmodel *m, double *b)
 {
     const dextent *x = &m->fl.ext;
-    if (m->fl.measured && fabs(x->pmin[0]) <= DBL_MAX && fabs(x->pmin[1]) <= DBL_MAX &&
+    if (m->fl.drifted && fabs(x->pmin[0]) <= DBL_MAX && fabs(x->pmin[1]) <= DBL_MAX &&
         fabs(x->pmax[0]) <= DBL_MAX && fabs(x->pmax[1]) <= DBL_MAX) {
         b[0] = x->pmin[0], b[1] = x->pmin[1], b[2] = x->pmax[0], b[3] = x->pmax[1];
         return 1;
@@ -192,45 +196,44 @@ static int plan(psim_sim *e, const double *region, int spare)
     return psim_engine_grid_occ(e, 2.0 * e->r, grown, PSIM_CELL_PARTICLES * f * f);
 }
 
-/* The number of centres in cell (cx, cy); 0 outside the grid. */
-static uint64_t cell_count(const psim_grid *g, int cx, int cy)
+/* Whether box b (min and max per axis) lies within the grid's square
+ * grown by d on each side. */
+static int within_square(const psim_grid *g, const double *b, double d)
 {
-    if (cx < 0 || cy < 0 || cx >= g->G || cy >= g->G)
-        return 0;
+    return b[0] >= g->x0 - d && b[1] >= g->y0 - d && b[2] <= g->x0 + g->side + d &&
+           b[3] <= g->y0 + g->side + d;
+}
+
+/* How many disks of cell (cx, cy) lie outside box b. */
+static uint64_t cell_outside(const psim_sim *e, int cx, int cy, const double *b)
+{
+    const psim_grid *g = &e->grid;
+    const double *x = e->st.x, *y = e->st.y;
     uint32_t c = g->rank_of_xy[(uint32_t)cy * (uint32_t)g->G + (uint32_t)cx];
-    return g->cellstart[c + 1] - g->cellstart[c];
+    uint64_t out = 0;
+    for (uint32_t i = g->cellstart[c]; i < g->cellstart[c + 1]; i++)
+        out += x[i] < b[0] || y[i] < b[1] || x[i] > b[2] || y[i] > b[3];
+    return out;
 }
 
-/* The distance tests the search makes from cell (cx, cy) (contacts.c:
- * the cell's own pairs and the forward half of its neighbours). */
-static uint64_t cell_tests(const psim_grid *g, int cx, int cy)
+/* The disks further than a cell outside the grid's square: all of them
+ * are in its border cells, so only those are looked at. */
+static uint64_t disks_outside(const psim_sim *e)
 {
-    uint64_t na = cell_count(g, cx, cy);
-    if (na == 0)
-        return 0;
-    return na * (na - 1) / 2 +
-           na * (cell_count(g, cx + 1, cy) + cell_count(g, cx - 1, cy + 1) +
-                 cell_count(g, cx, cy + 1) + cell_count(g, cx + 1, cy + 1));
-}
-
-/* The tests of the border cells, which hold every disk outside the grid:
- * O(G), after the sort. */
-static uint64_t border_tests(const psim_grid *g)
-{
+    const psim_grid *g = &e->grid;
     const int G = g->G;
-    uint64_t t = 0;
-    for (int k = 0; k < G; k++) {
-        t += cell_tests(g, k, 0);
+    const double b[4] = {g->x0 - g->h, g->y0 - g->h, g->x0 + g->side + g->h,
+                         g->y0 + g->side + g->h};
+    uint64_t out = 0;
+    for (int c = 0; c < G; c++) {
+        out += cell_outside(e, c, 0, b);
         if (G > 1)
-            t += cell_tests(g, k, G - 1);
-        if (k > 0 && k < G - 1)
-            t += cell_tests(g, 0, k) + cell_tests(g, G - 1, k);
+            out += cell_outside(e, c, G - 1, b);
     }
-    return t;
+    for (int c = 1; c < G - 1; c++)
+        out += cell_outside(e, 0, c, b) + cell_outside(e, G - 1, c, b);
+    return out;
 }
-
-/* The most tests a search may make before the plan is looked at again. */
-static uint64_t work_limit(const dregrid *rg, long n) { return 2 * rg->base + (uint64_t)n; }
 
 int discrete_plan_grid(psim_sim *e, dmodel *m)
 {
@@ -242,38 +245,24 @@ int discrete_plan_grid(psim_sim *e, dmodel *m)
 
 int discrete_regrid(psim_sim *e, dmodel *m)
 {
-    dregrid *rg = &m->rg;
-    if (!rg->enabled || !e->has_grid)
+    if (!m->rg.enabled || !e->has_grid || e->n == 0 || !m->fl.drifted)
         return 0;
-    if (!rg->pending && !(rg->have_base && border_tests(&e->grid) > work_limit(rg, e->n)))
+    const psim_grid *g = &e->grid;
+    const double ext[4] = {m->fl.ext.pmin[0], m->fl.ext.pmin[1], m->fl.ext.pmax[0],
+                           m->fl.ext.pmax[1]};
+    int left = !within_square(g, ext, g->h) && disks_outside(e) > 4 * outliers(e->n);
+    int gathered = fmax(side(ext), 2.0 * e->r) < RG_SHRINK * g->side;
+    if (!left && !gathered)
         return 0;
-    rg->pending = 0;
-    rg->have_base = 0;  /* the count starts afresh, whatever is decided */
     double region[4];
     if (!disks_region(e, m, region))
         return 0;
-    const psim_grid *g = &e->grid;
-    int grew = region[0] < g->x0 || region[1] < g->y0 || region[2] > g->x0 + g->side ||
-               region[3] > g->y0 + g->side;
-    int shrank = fmax(side(region), 2.0 * e->r) < 0.5 * g->side;
+    int grew = !within_square(g, region, 0);
+    int shrank = fmax(side(region), 2.0 * e->r) < RG_SHRINK * g->side;
     if (!grew && !shrank)
         return 0;
     if (plan(e, region, grew))
         return -1;
     e->stats.counter[DC_REGRIDS]++;
     return 1;
-}
-
-void discrete_regrid_searched(const psim_sim *e, dmodel *m)
-{
-    dregrid *rg = &m->rg;
-    if (!rg->enabled)
-        return;
-    if (rg->have_base && m->step_tests > work_limit(rg, e->n)) {
-        rg->pending = 1;
-        return;
-    }
-    if (!rg->have_base || m->step_tests < rg->base)
-        rg->base = m->step_tests;
-    rg->have_base = 1;
 }
