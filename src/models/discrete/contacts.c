@@ -99,10 +99,10 @@ search_cells(const psim_sim *e, const dmodel *m, uint32_t tid, uint32_t c0, uint
     int tx = g->tile_x[tid], ty = g->tile_y[tid];
     uint64_t looked = 0;
     for (uint32_t c = c0; c < c1 && !bad; c++) {
-        uint64_t na = g->cellstart[c + 1] - g->cellstart[c];
+        uint32_t na = g->cellstart[c + 1] - g->cellstart[c];
+        uint64_t nbs = 0;
         if (na == 0)
             continue;
-        looked += na * (na - 1) / 2;
         bad |= scan_cells(e, m, c, c, in, 1, d2min, nearest_wanted);
         int cx = g->cell_x[c], cy = g->cell_y[c];
         for (int k = 0; k < 4; k++) {
@@ -110,14 +110,15 @@ search_cells(const psim_sim *e, const dmodel *m, uint32_t tid, uint32_t c0, uint
             if (nx < 0 || ny < 0 || nx >= g->G || ny >= g->G)
                 continue;
             uint32_t c2 = g->rank_of_xy[ny * g->G + nx];
-            uint64_t nb = g->cellstart[c2 + 1] - g->cellstart[c2];
+            uint32_t nb = g->cellstart[c2 + 1] - g->cellstart[c2];
             if (nb == 0)
                 continue;
-            looked += na * nb;
+            nbs += nb;
             int dtx = (nx >> g->tile_shift) - tx, dty = (ny >> g->tile_shift) - ty;
             int d = (dtx + 1) + 3 * (dty + 1);
             bad |= scan_cells(e, m, c, c2, d == 4 ? in : &cross[d], 0, d2min, nearest_wanted);
         }
+        looked += (uint64_t)na * (na - 1) / 2 + na * nbs;
     }
     *tests = looked;
     return bad;
