@@ -6,13 +6,14 @@
 # (--option regrid=0: the bounding box at the start, kept), and the search's
 # distance tests per disk and step.
 #
-# usage: bench/regrid_bench.sh [--runs K] [--old PSIM] [--course DIR] [BUILD_DIR]
+# usage: bench/regrid_bench.sh [--runs K] [--old PSIM] [--course DIR] [--course-only] [BUILD_DIR]
 #   --runs K      rounds (default 5); the old plan of the outlier scenes,
 #                 which takes minutes, runs once
 #   --old PSIM    another build (main before this work) for the course's
 #                 scenes, run interleaved with this one, outputs compared
 #   --course DIR  the course's scenes (../shared/scenes/cs3210-2024): the
 #                 standard/*.in and large/*.in of DIR, old against new
+#   --course-only just that table
 #   BUILD_DIR     directory holding psim (default build)
 #
 # Scenes (written to a temporary directory):
@@ -32,11 +33,13 @@ runs=5
 build=build
 old=
 course=
+only=0
 while [ $# -gt 0 ]; do
     case "$1" in
         --runs) runs="$2"; shift 2 ;;
         --old) old="$2"; shift 2 ;;
         --course) course="$2"; shift 2 ;;
+        --course-only) only=1; shift ;;
         -h|--help) sed -n '2,30p' "$0"; exit 0 ;;
         -*) echo "regrid_bench.sh: unknown option $1" >&2; exit 2 ;;
         *) build="$1"; shift ;;
@@ -46,6 +49,12 @@ psim="$build/psim"
 [ -x "$psim" ] || { echo "regrid_bench.sh: no psim in $build (build first)" >&2; exit 1; }
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 
+# field FILE KEY...: values of a stats file
+field() { python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print(*[d[k] for k in sys.argv[2:]])" "$@"; }
+median() { sort -g | awk '{v[NR]=$1} END {print (NR % 2) ? v[(NR+1)/2] : (v[NR/2] + v[NR/2+1]) / 2}'; }
+
+echo "psim: $psim ($("$psim" --version | head -1)); $runs rounds, 1 thread; $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg)"
+if [ "$only" = 0 ]; then
 "$psim" gen -n 100000 --density 0.7 -s 5 -o "$tmp/uniform.in" 2>/dev/null
 awk 'NR == 5 { $2 = "1e12" } { print }' "$tmp/uniform.in" >"$tmp/outlier.in"
 "$psim" gen -n 20000 --density 0.5 --place lattice -s 1000 --seed 3 -o "$tmp/lattice.in" 2>/dev/null
@@ -63,14 +72,10 @@ for name, far in (("cluster", False), ("cluster+outlier", True)):
             f.write(f"{i} {x} {float(y) + off!r} {vx} {vy}\n")
 PY
 
-# field FILE KEY...: values of a stats file
-field() { python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print(*[d[k] for k in sys.argv[2:]])" "$@"; }
-median() { sort -g | awk '{v[NR]=$1} END {print (NR % 2) ? v[(NR+1)/2] : (v[NR/2] + v[NR/2+1]) / 2}'; }
 # ms_step FILE: wall milliseconds per step of a stats file
 ms_step() { python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print(1e3 * d['time_s'] / d['steps'])" "$1"; }
 per_disk() { python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print(d['search_tests'] / d['n'] / d['steps'])" "$1"; }
 
-echo "psim: $psim ($("$psim" --version | head -1)); $runs rounds, 1 thread; $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg)"
 echo
 printf '| scene | steps | follows (default) ms/step | old plan (regrid=0) ms/step | re-plans | search tests per disk-step (default / old) | last 100 steps ms/step (default / old) |\n'
 printf '|---|---:|---:|---:|---:|---|---|\n'
@@ -130,6 +135,7 @@ for r in $(seq "$runs"); do
 done
 printf 'cluster planned afresh every 100 steps: %.3f ms/step (median of %s rounds of the ten runs; the last: %.3f ms/step)\n' \
     "$(median <"$tmp/fresh")" "$runs" "$(python3 -c "print(10 * $(field "$tmp/f.json" time_s))")"
+fi
 
 # the course's scenes, this build against --old, interleaved
 if [ -n "$course" ] && [ -n "$old" ]; then

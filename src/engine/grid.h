@@ -6,10 +6,11 @@
  * rank is a sort by Morton key with no empty buckets outside the grid.
  * Tiles are aligned blocks of S x S cells (S a power of two); in Morton order
  * the cells of a tile are one contiguous rank range, and so are its
- * particles after the sort.  The grid spans the bounding box of the disks
- * at the start (so a cluster in a corner of a huge box still gets small
- * cells); positions outside it are clamped into the border cells, which
- * keeps adjacent disks in adjacent cells. */
+ * particles after the sort.  The grid spans the region its model asks for
+ * (the discrete model: where its disks are, planned again as they move, so
+ * a cluster in a corner of a huge box still gets small cells:
+ * src/models/discrete/regrid.c); positions outside it are clamped into the
+ * border cells, which keeps adjacent disks in adjacent cells. */
 #ifndef PSIM_ENGINE_GRID_H
 #define PSIM_ENGINE_GRID_H
 #include <stdint.h>

@@ -14,16 +14,17 @@
  *     scene without far disks gets exactly the plan of its bounding box;
  *   - when: more than 4k disks lie further than a cell outside the grid's
  *     square (they have left it: a border cell then spans more than two
- *     cells' width of them), or the positions' extent has shrunk to less
- *     than half the square (cells could be half as wide).  The drift
- *     measures the extent in its own pass (flight.c), and only when it
- *     reaches past the square are the disks of the border cells counted:
- *     a normal step pays a few compares;
+ *     cells' width of them), or the positions' extent has shrunk below
+ *     1/sqrt(2) of the square (its cells could hold half the disks).  The
+ *     drift measures the extent as it moves the disks (flight.c), and only
+ *     when the extent reaches past the square are the disks of the border
+ *     cells counted: a normal step pays a few compares;
  *   - how: a region that has grown is planned with an eighth of its side
  *     to spare on each side, cells as small as without it, so that a
  *     growing cluster does not ask again at once.  Right after a plan at
  *     most 4k disks are outside its square and the extent is more than
- *     half of it, so every decision changes the plan and none repeats.
+ *     1/sqrt(2) of it, so every decision changes the plan and none
+ *     repeats.
  * The triggers and the plan are functions of the positions and of the
  * current plan only (counts, and minima and maxima, which do not depend on
  * the order they are taken in): never of the thread count, of time or of
@@ -39,10 +40,10 @@
 #define RG_SLOTS (RG_BINS + 2)      /* below, the bins, above */
 #define RG_PASSES 6                 /* each pass can narrow an axis 500-fold */
 #define RG_SPARE 0.125              /* room left around a growing region */
-#define RG_SHRINK 0.7071            /* a square 1/RG_SHRINK wider: cells of twice the disks */
-/* Fewer disks keep the plan of their bounding box: their search costs at
- * most 2016 distance tests a step whatever the grid (a cell holds them
- * all), less than a plan would. */
+#define RG_SHRINK 0.7071            /* extent / square below which cells hold twice the disks */
+/* Fewer disks keep the plan of their bounding box: their search makes at
+ * most 2016 distance tests a step whatever the grid (one cell holding them
+ * all), fewer than a re-plan costs. */
 #define RG_MIN_DISKS 64
 
 /* How many centres on each side of each axis may be left out. */
@@ -144,8 +145,10 @@ static void trim(const psim_sim *e, uint64_t k, double *t)
     uint32_t h[2 * RG_SLOTS];
     for (int pass = 0; pass < RG_PASSES; pass++) {
         int live[2], shrunk = 0;
-        for (int a = 0; a < 2; a++)
-            live[a] = t[2 + a] > t[a] && t[2 + a] - t[a] <= DBL_MAX;
+        for (int a = 0; a < 2; a++) {   /* spans whose bins have a finite width */
+            double span = t[2 + a] - t[a];
+            live[a] = span > 0 && span <= DBL_MAX && RG_BINS / span <= DBL_MAX;
+        }
         if (!live[0] && !live[1])
             return;
         histogram(e, t, live, h);
