@@ -209,6 +209,9 @@ static void step_summary(FILE *f, const psim_stats *st)
             (double)c[DC_CONTACTS] / steps, (double)c[DC_ROUNDS] / steps,
             (unsigned long long)c[DC_MAX_ROUNDS], (double)c[DC_PAIR_RES] / steps,
             (double)c[DC_WALL_RES] / steps, (double)c[DC_TASKS] / steps);
+    if (c[DC_REGRIDS])
+        fprintf(f, "  grid planned again %llu times: the disks left it or gathered inside it\n",
+                (unsigned long long)c[DC_REGRIDS]);
 }
 
 const psim_model psim_model_discrete = {
