@@ -123,7 +123,7 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
     dmodel *m = calloc(1, sizeof *m);
     if (!m)
         goto oom;
-    m->rg.enabled = psim_engine_option(e, "regrid", 1) != 0;
+    m->regrid = psim_engine_option(e, "regrid", 1) != 0;
     /* cells wider than 2r over the region the disks occupy: contacts are
      * in the same or adjacent cells (regrid.c) */
     if (discrete_plan_grid(e, m))

@@ -108,11 +108,6 @@ typedef struct dflight {
     int resting;                /* every velocity is 0 for good */
 } dflight;
 
-/* The grid follows the disks (regrid.c). */
-typedef struct dregrid {
-    int enabled;                /* --option regrid (default 1) */
-} dregrid;
-
 typedef struct dmodel {
     uint32_t ntiles;
     dtile *tiles;
@@ -131,7 +126,8 @@ typedef struct dmodel {
     uint64_t budget;         /* resolutions a step may take (settle x n) */
     double d2min;            /* nearest pair the last search saw, squared */
     dflight fl;              /* what the scene can use this step (flight.c) */
-    dregrid rg;              /* when the grid is planned again (regrid.c) */
+    int regrid;              /* the grid follows the disks (regrid.c; --option
+                              * regrid, default 1) */
 } dmodel;
 
 /* A step's collisions must settle within this many resolutions (pair and

@@ -1,11 +1,10 @@
 /* Free flight: the stages of a step that a scene cannot use are left out.
  *
  * The drift measures, in the same pass, the extent of the new positions
- * (every step: a few compares in a loop bound by memory; the grid follows
- * it, regrid.c) and, only when a skip may follow (a gap left by the last
- * search, a search that found no contact, or a step that changed no
- * velocity), of the velocities it used, so a dense scene pays nothing for
- * the skips.  From them:
+ * (every step, in SSE2 registers: the grid follows it, regrid.c) and, only
+ * when a skip may follow (a gap left by the last search, a search that
+ * found no contact, or a step that changed no velocity), of the velocities
+ * it used, so a dense scene pays nothing for the skips.  From them:
  *   - search: a search that finds no contact also gives the nearest pair it
  *     saw, D (pairs in cells that are not neighbours are at least a cell
  *     side h apart, so min(D, h) bounds every pair).  Every velocity is

@@ -241,14 +241,14 @@ static uint64_t disks_outside(const psim_sim *e)
 int discrete_plan_grid(psim_sim *e, dmodel *m)
 {
     double region[4];
-    int found = e->n > 0 && (m->rg.enabled ? disks_region(e, m, region)
-                                           : extent_within(e, NULL, region) > 0);
+    int found = e->n > 0 && (m->regrid ? disks_region(e, m, region)
+                                       : extent_within(e, NULL, region) > 0);
     return psim_engine_grid(e, 2.0 * e->r, found ? region : NULL);
 }
 
 int discrete_regrid(psim_sim *e, dmodel *m)
 {
-    if (!m->rg.enabled || !e->has_grid || e->n < RG_MIN_DISKS || !m->fl.drifted)
+    if (!m->regrid || !e->has_grid || e->n < RG_MIN_DISKS || !m->fl.drifted)
         return 0;
     const psim_grid *g = &e->grid;
     const double ext[4] = {m->fl.ext.pmin[0], m->fl.ext.pmin[1], m->fl.ext.pmax[0],
