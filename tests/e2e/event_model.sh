@@ -117,4 +117,12 @@ printf '3\n100\n1\n10\n2 50 50 1 0\n0 10 50 1 0\n1 11.5 50 -1 0\n' >"$tmp/overla
 expect_fail --rc 1 "overlap.in:6: disk 0 overlaps disk 1 (line 7)" \
     "$PSIM" --model event -o "$tmp/overlap.out" "$tmp/overlap.in"
 [[ ! -e $tmp/overlap.out ]] || fail "an output file was left after the overlap error"
+# a centre outside the walls [r, L - r] overlaps a wall: refused (a disk at
+# rest at (0, 0) with r = 1 looped at one instant for ever); the edge is in
+printf '2\n10\n1\n5\n0 5 5 1 0\n1 0.5 9 0 0\n' >"$tmp/outside.in"
+expect_fail --rc 1 "outside.in:6: disk 1 at (0.5, 9) is outside the walls" \
+    "$PSIM" --model event -o "$tmp/outside.out" "$tmp/outside.in"
+[[ ! -e $tmp/outside.out ]] || fail "an output file was left after the walls error"
+printf '2\n10\n1\n5\n0 5 5 1 0\n1 1 9 0 0\n' >"$tmp/edge.in"
+run_ok "$PSIM" -q --model event --check --final "$tmp/edge.out" "$tmp/edge.in"
 echo "event model: all checks passed"

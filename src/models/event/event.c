@@ -67,6 +67,21 @@ static long first_overlap(const emodel *m, long *jout)
     return -1;
 }
 
+/* The first disk whose centre is outside the walls [r, L - r]^2 by more
+ * than round-off (1e-9 r, as --check allows), or -1.  Such a disk is an
+ * overlap with a wall: the wall meets it "now" wherever it is, and pinned
+ * between that and a disk it loops at one instant for ever (a fuzzed
+ * scene: a disk at rest at (0, 0), r = 1, hung the run). */
+static long first_outside(const emodel *m)
+{
+    const double tol = 1e-9 * m->r;
+    for (long i = 0; i < m->n; i++)
+        if (!(m->d[i].x >= m->lo - tol && m->d[i].x <= m->hi + tol &&
+              m->d[i].y >= m->lo - tol && m->d[i].y <= m->hi + tol))
+            return i;
+    return -1;
+}
+
 static int alloc_state(emodel *m)
 {
     size_t cells = (size_t)m->G * (size_t)m->G;
@@ -199,6 +214,16 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
                             "less than (2r)^2 = %.17g (the event model needs a scene without "
                             "overlaps: psim gen --place nonoverlap or lattice)",
                        at, i, j, also, dx * dx + dy * dy, m->sigma2);
+        destroy(m);
+        return NULL;
+    }
+    if ((i = first_outside(m)) >= 0) {
+        char at[320];
+        psim_scene_where(sc, i, at, sizeof at);
+        psim_error_set(err, "%sdisk %ld at (%.17g, %.17g) is outside the walls: the event "
+                            "model needs every centre in [r, L - r] = [%.17g, %.17g] (psim gen "
+                            "--place nonoverlap or lattice)",
+                       at, i, m->d[i].x, m->d[i].y, m->lo, m->hi);
         destroy(m);
         return NULL;
     }
