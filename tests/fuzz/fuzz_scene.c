@@ -8,9 +8,28 @@
 #include "fuzz.h"
 #include "psim/psim.h"
 
+/* The first integer of the input after blank space and an optional
+ * restart line (saturating; 0 when there is none). */
+static double header_count(const uint8_t *data, size_t size)
+{
+    size_t i = 0;
+    while (i < size && (data[i] == ' ' || data[i] == '\t' || data[i] == '\r' ||
+                        data[i] == '\n' || data[i] >= 0x80 || data[i] == '#')) {
+        if (data[i] == '#')   /* a restart file's first line */
+            while (i < size && data[i] != '\n')
+                i++;
+        else
+            i++;
+    }
+    double n = 0;
+    while (i < size && data[i] >= '0' && data[i] <= '9' && n < 1e18)
+        n = n * 10 + (data[i++] - '0');
+    return n;
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    if (size == 0)
+    if (size == 0 || header_count(data, size) > FUZZ_MAX_READ)
         return 0;
     FILE *f = fmemopen((void *)data, size, "r");
     if (!f)

@@ -217,6 +217,11 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
         destroy(m);
         return NULL;
     }
+    /* (overlaps at the file's time, walls at each disk's own: a restart
+     * file's own-time columns are checked too) */
+    m->now = (double)e->step;
+    e->stats.value[EV_KINETIC0] = e->stats.value[EV_KINETIC] = kinetic(m);
+    restart_load(e, sc, m);
     if ((i = first_outside(m)) >= 0) {
         char at[320];
         psim_scene_where(sc, i, at, sizeof at);
@@ -231,9 +236,6 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
         destroy(m);
         return NULL;
     }
-    m->now = (double)e->step;
-    e->stats.value[EV_KINETIC0] = e->stats.value[EV_KINETIC] = kinetic(m);
-    restart_load(e, sc, m);
     if (event_predict_all(e, m))
         goto oom;
     return m;
