@@ -5,6 +5,7 @@
  * model's results follow it (the discrete model resolves contacts in that
  * order; others by id) and the model's own columns (ccd: its collision
  * counts; event: each disk's own time). */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -101,12 +102,18 @@ static int put_header(FILE *f, const psim_sim *e, long steps)
             if (fprintf(f, "%s%s=%s", any++ ? "," : " options=", m->options[k].name, b) < 0)
                 return -1;
         }
-    if (e->grid_asked &&
-        put_numbers(f, "grid", e->grid_ask, e->grid_ask_bbox ? 7 : 3))
+    /* (only finite numbers: the reader takes no other; a plan or a sum
+     * that is not finite is left out, and the next run starts it afresh) */
+    int ng = e->grid_ask_bbox ? 7 : 3, finite = e->grid_asked;
+    for (int k = 0; k < ng; k++)
+        finite &= isfinite(e->grid_ask[k]) != 0;
+    if (finite && put_numbers(f, "grid", e->grid_ask, ng))
         return -1;
-    for (int k = 0; k < e->stats.nvalues; k++) {
+    for (int k = 0, any = 0; k < e->stats.nvalues; k++) {
+        if (!isfinite(e->stats.value[k]))
+            continue;
         psim_fmt_shortest(b, e->stats.value[k]);
-        if (fprintf(f, "%s%s:%s", k ? "," : " values=", e->stats.value_name[k], b) < 0)
+        if (fprintf(f, "%s%s:%s", any++ ? "," : " values=", e->stats.value_name[k], b) < 0)
             return -1;
     }
     for (int k = 0; m->restart_cols[k]; k++)
