@@ -285,7 +285,7 @@ const psim_model psim_model_force = {
                 {NULL, NULL, 0, 0}},
     .skips = {[FS_MOVE] = {"move", "at rest: no force, no speed"},
               [FS_WALLS] = {"walls", "no particle crossed a wall: no reflections"},
-              [FS_GRAPH] = {"task_graph", "one thread: tiles run in order, no tasks"},
+              [FS_GRAPH] = {"task_graph", "one thread or one tile: tiles run in order, no tasks"},
               [FS_LISTS] = {"rebuilds", "lists kept past the skin: the nearest unlisted pair is farther"}},
     .sorts_itself = 1,
     .create = create,

@@ -446,7 +446,8 @@ int force_build_lists(psim_sim *e, fmodel *m)
         thr[b] = d * d;
     }
     int oom = 0;
-    const int graph = e->threads > 1;   /* one thread: the same calls in order */
+    /* one thread, or one tile: the same calls in order */
+    const int graph = e->threads > 1 && m->ntiles > 1;
     const int simd = m->simd;
 #pragma omp parallel num_threads(e->threads) if (graph)
 #pragma omp single

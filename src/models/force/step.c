@@ -385,7 +385,8 @@ int force_step_lists(psim_sim *e, fmodel *m)
     int oom = 0;
     m->shells = active_shells(m);
     double t0 = psim_now(), t1 = t0;
-    const int graph = e->threads > 1;   /* one thread: the same calls in order */
+    /* one thread, or one tile: the same calls in order */
+    const int graph = e->threads > 1 && m->ntiles > 1;
 #pragma omp parallel num_threads(e->threads) if (graph)
 #pragma omp single
     {
