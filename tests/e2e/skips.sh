@@ -187,9 +187,15 @@ j=$tmp/dilute.force1.json
     fail "force at rest: expected the step left out in 58 of 60 steps: $(grep -A4 left_out "$tmp/f_rest.force1.json")"
 [[ $(counter "$tmp/f_com.force3.json" rebuilds) == 1 && $(counter "$tmp/f_com.force.ref.json" rebuilds) -gt 1 ]] ||
     fail "force moving as one: one list build expected, $(counter "$tmp/f_com.force3.json" rebuilds)"
+# the task graph: left out with one thread, and with one tile (400
+# particles make one tile: tiles hold at least 1024 of the force model's)
 [[ $(left_out "$tmp/f_com.force1.json" walls) == 200 && $(left_out "$tmp/f_com.force1.json" task_graph) == 200 &&
-   $(left_out "$tmp/f_com.force3.json" task_graph) == 0 ]] ||
-    fail "force: walls and task_graph (1 thread) should be left out: $(grep -A4 left_out "$tmp/f_com.force1.json")"
+   $(counter "$tmp/f_com.force3.json" tiles) == 1 && $(left_out "$tmp/f_com.force3.json" task_graph) == 200 ]] ||
+    fail "force: walls and task_graph (1 thread, 1 tile) should be left out: $(grep -A4 left_out "$tmp/f_com.force1.json")"
+# ... and used with threads and tiles to share
+run_ok "$PSIM" -q -n 20000 -s 1 --steps 3 --threads 2 --stats "$tmp/f_tiles.json"
+(($(counter "$tmp/f_tiles.json" tiles) > 1)) && [[ $(left_out "$tmp/f_tiles.json" task_graph) == 0 ]] ||
+    fail "force: 20000 particles on 2 threads should run tiles as tasks: $(grep -E '"tiles"|task_graph' "$tmp/f_tiles.json")"
 
 # the run summary names what was left out
 "$PSIM" "$tmp/dilute.in" | grep -q "left out: search in 199 of 200 steps" || fail "no 'left out' line in the summary"
