@@ -32,6 +32,16 @@ typedef struct run_opts {
     double read_s;          /* reading (or making) the scene */
 } run_opts;
 
+/* The run's output files, in one order everywhere: the model's own
+ * (--out), --trace, --final, --stats, --thermo-file, --dump, --restart. */
+#define RUN_OUTPUTS 7
+static void output_paths(const run_opts *o, const char **p)
+{
+    const char *list[RUN_OUTPUTS] = {o->out,         o->trace, o->final,  o->stats,
+                                     o->thermo_file, o->dump,  o->restart};
+    memcpy(p, list, sizeof list);
+}
+
 static void run_usage(FILE *f)
 {
     fprintf(f,
@@ -344,10 +354,10 @@ static int parse_run(int argc, char **argv, run_opts *o)
         }
         o->threads = t;
     }
-    const char *files[7] = {o->out,         o->trace, o->final,  o->stats,
-                            o->thermo_file, o->dump,  o->restart};
-    for (int a = 0; a < 7; a++) {
-        for (int b = a + 1; b < 7; b++)
+    const char *files[RUN_OUTPUTS];
+    output_paths(o, files);
+    for (int a = 0; a < RUN_OUTPUTS; a++) {
+        for (int b = a + 1; b < RUN_OUTPUTS; b++)
             if (files[a] && files[b] && same_file(files[a], files[b]) && !is_stream(files[a])) {
                 fprintf(stderr, "psim: '%s' is named for two outputs (--out, --trace, --final, "
                                 "--stats, --thermo-file, --dump, --restart)\n", files[a]);
@@ -426,6 +436,14 @@ typedef struct run_state {
     int print;          /* the model's output holds every step */
 } run_state;
 
+/* Its output files, in the order of output_paths. */
+static void output_files(run_state *rs, outfile **l)
+{
+    outfile *list[RUN_OUTPUTS] = {&rs->out,    &rs->trace, &rs->final,  &rs->stats,
+                                  &rs->thermo, &rs->dump,  &rs->restart};
+    memcpy(l, list, sizeof list);
+}
+
 static int write_out(const run_opts *o, psim_sim *s, const outfile *of, long step, int final)
 {
     double t0 = psim_now();
@@ -486,33 +504,24 @@ static void print_summary(FILE *f, const run_opts *o, const psim_scene *sc,
 
 static int open_outputs(const run_opts *o, run_state *rs)
 {
-    const char *out = o->out ? o->out : (rs->style.to_stdout ? "-" : NULL);
-    if (out && outfile_open(&rs->out, out))
-        return -1;
-    if (o->trace && outfile_open(&rs->trace, o->trace))
-        return -1;
-    if (o->final && outfile_open(&rs->final, o->final))
-        return -1;
-    if (o->stats && outfile_open(&rs->stats, o->stats))
-        return -1;
-    if (o->thermo_file && outfile_open(&rs->thermo, o->thermo_file))
-        return -1;
-    if (o->dump && outfile_open(&rs->dump, o->dump))
-        return -1;
-    if (o->restart && outfile_open(&rs->restart, o->restart))
-        return -1;
+    const char *path[RUN_OUTPUTS];
+    outfile *of[RUN_OUTPUTS];
+    output_paths(o, path);
+    output_files(rs, of);
+    if (!path[0] && rs->style.to_stdout)
+        path[0] = "-";   /* the model's source prints to standard output */
+    for (int k = 0; k < RUN_OUTPUTS; k++)
+        if (path[k] && outfile_open(of[k], path[k]))
+            return -1;
     return 0;
 }
 
 static void abort_outputs(run_state *rs)
 {
-    outfile_abort(&rs->out);
-    outfile_abort(&rs->trace);
-    outfile_abort(&rs->final);
-    outfile_abort(&rs->stats);
-    outfile_abort(&rs->thermo);
-    outfile_abort(&rs->dump);
-    outfile_abort(&rs->restart);
+    outfile *of[RUN_OUTPUTS];
+    output_files(rs, of);
+    for (int k = 0; k < RUN_OUTPUTS; k++)
+        outfile_abort(of[k]);
 }
 
 /* Whether the model's output holds the state after step k, last being
@@ -799,13 +808,13 @@ int cli_run(int argc, char **argv)
         free(pin_json), free(thr_json), free(extra);
     }
     /* the summary goes to stderr when an output is on stdout */
-    outfile *outs[7] = {&rs.out,    &rs.trace, &rs.final,  &rs.stats,
-                        &rs.thermo, &rs.dump,  &rs.restart};
+    outfile *outs[RUN_OUTPUTS];
+    output_files(&rs, outs);
     FILE *info = stdout;
-    for (int k = 0; k < 7; k++)
+    for (int k = 0; k < RUN_OUTPUTS; k++)
         if (on_stdout(outs[k]))
             info = stderr;
-    if (outfile_commit_all(outs, 7))
+    if (outfile_commit_all(outs, RUN_OUTPUTS))
         goto done;
     if (!o.quiet) {
         psim_print_source_summary(info, s, loop_s);
