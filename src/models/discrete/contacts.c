@@ -8,6 +8,7 @@
 
 #include "collide.h"
 #include "discrete.h"
+#include "../../engine/cpu.h"
 #include "../../engine/mem.h"
 #include "../../engine/tstats.h"
 
@@ -87,6 +88,105 @@ static void clear_lists(dlist *in, dlist *cross)
         cross[d].n = 0;
 }
 
+/* Cell c's half stencil: itself, then those of its neighbours east,
+ * north-west, north and north-east that hold disks, each with the list
+ * its pairs go to. */
+typedef struct dstencil {
+    int n;
+    uint32_t cell[5];
+    dlist *to[5];
+    uint64_t nbs;   /* disks in the neighbours */
+} dstencil;
+
+static inline __attribute__((always_inline)) void
+half_stencil_of(const psim_grid *g, uint32_t c, int tx, int ty, dlist *in, dlist *cross,
+                dstencil *s)
+{
+    s->n = 1;
+    s->cell[0] = c;
+    s->to[0] = in;
+    s->nbs = 0;
+    int cx = g->cell_x[c], cy = g->cell_y[c];
+    for (int k = 0; k < 4; k++) {
+        int nx = cx + half_stencil[k][0], ny = cy + half_stencil[k][1];
+        if (nx < 0 || ny < 0 || nx >= g->G || ny >= g->G)
+            continue;
+        uint32_t c2 = g->rank_of_xy[ny * g->G + nx];
+        uint32_t nb = g->cellstart[c2 + 1] - g->cellstart[c2];
+        if (nb == 0)
+            continue;
+        s->nbs += nb;
+        int dtx = (nx >> g->tile_shift) - tx, dty = (ny >> g->tile_shift) - ty;
+        int d = (dtx + 1) + 3 * (dty + 1);
+        s->cell[s->n] = c2;
+        s->to[s->n++] = d == 4 ? in : &cross[d];
+    }
+}
+
+#if PSIM_AVX512
+#include <immintrin.h>
+#define AVX512 __attribute__((target("avx512f,avx512vl,popcnt")))
+
+/* scan_cells, the disks of cell cb eight at a time: the same pairs in the
+ * same order (the hits of each vector compressed to its front and stored
+ * whole at the list's end, with room for eight reserved). */
+AVX512 static inline __attribute__((always_inline)) int
+scan_cells_avx512(const psim_sim *e, const dmodel *m, uint32_t ca, uint32_t cb, dlist *to,
+                  int same, __m512d *nearest, const int nearest_wanted)
+{
+    const psim_grid *g = &e->grid;
+    const double *x = e->st.x, *y = e->st.y;
+    const __m512d four_r2 = _mm512_set1_pd(m->four_r2);
+    const __m512i lane = _mm512_set_epi64(7, 6, 5, 4, 3, 2, 1, 0);
+    uint32_t a0 = g->cellstart[ca], a1 = g->cellstart[ca + 1];
+    uint32_t b0 = g->cellstart[cb], b1 = g->cellstart[cb + 1];
+    size_t n = to->n;
+    dcontact *out = to->c;
+    for (uint32_t i = a0; i < a1; i++) {
+        uint32_t j0 = same ? i + 1 : b0;
+        if (n + (b1 - j0) + 8 > to->cap) {   /* as scan_cells, and a vector's room */
+            to->n = n;
+            if (psim_reserve((void **)&to->c, &to->cap, n + (b1 - j0) + 8, sizeof *to->c))
+                return -1;
+            out = to->c;
+        }
+        const __m512d px = _mm512_set1_pd(x[i]), py = _mm512_set1_pd(y[i]);
+        const __m512i pi = _mm512_set1_epi64(i);
+        for (uint32_t j = j0; j < b1; j += 8) {
+            __mmask8 lanes = b1 - j >= 8 ? (__mmask8)0xff : (__mmask8)((1u << (b1 - j)) - 1);
+            __m512d dx = _mm512_sub_pd(_mm512_maskz_loadu_pd(lanes, x + j), px);
+            __m512d dy = _mm512_sub_pd(_mm512_maskz_loadu_pd(lanes, y + j), py);
+            __m512d d2 = _mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy));
+            __mmask8 hit = _mm512_mask_cmp_pd_mask(lanes, d2, four_r2, _CMP_LE_OQ);
+            __m512i pj = _mm512_slli_epi64(_mm512_add_epi64(_mm512_set1_epi64(j), lane), 32);
+            _mm512_storeu_si512(out + n, _mm512_maskz_compress_epi64(hit, _mm512_or_si512(pj, pi)));
+            n += (size_t)__builtin_popcount(hit);
+            if (nearest_wanted) {   /* NaN: never the nearest */
+                __mmask8 lt = _mm512_mask_cmp_pd_mask(lanes, d2, *nearest, _CMP_LT_OQ);
+                *nearest = _mm512_mask_mov_pd(*nearest, lt, d2);
+            }
+        }
+    }
+    to->n = n;
+    return 0;
+}
+
+/* Cell c against its half stencil. */
+AVX512 static int search_cell_avx512(const psim_sim *e, const dmodel *m, uint32_t c,
+                                     const dstencil *s, double *d2min, const int nearest_wanted)
+{
+    __m512d nearest = _mm512_set1_pd(*d2min);
+    int bad = 0;
+    for (int k = 0; k < s->n; k++)
+        bad |= nearest_wanted
+                   ? scan_cells_avx512(e, m, c, s->cell[k], s->to[k], k == 0, &nearest, 1)
+                   : scan_cells_avx512(e, m, c, s->cell[k], s->to[k], k == 0, &nearest, 0);
+    if (nearest_wanted)
+        *d2min = _mm512_reduce_min_pd(nearest);
+    return bad;
+}
+#endif
+
 /* Search cells [c0, c1) of tile tid; pairs go to in / cross[direction].
  * *tests counts the pairs of disks looked at: the work of the search,
  * which tells when the grid no longer fits the disks (regrid.c). */
@@ -100,25 +200,19 @@ search_cells(const psim_sim *e, const dmodel *m, uint32_t tid, uint32_t c0, uint
     uint64_t looked = 0;
     for (uint32_t c = c0; c < c1 && !bad; c++) {
         uint32_t na = g->cellstart[c + 1] - g->cellstart[c];
-        uint64_t nbs = 0;
         if (na == 0)
             continue;
-        bad |= scan_cells(e, m, c, c, in, 1, d2min, nearest_wanted);
-        int cx = g->cell_x[c], cy = g->cell_y[c];
-        for (int k = 0; k < 4; k++) {
-            int nx = cx + half_stencil[k][0], ny = cy + half_stencil[k][1];
-            if (nx < 0 || ny < 0 || nx >= g->G || ny >= g->G)
-                continue;
-            uint32_t c2 = g->rank_of_xy[ny * g->G + nx];
-            uint32_t nb = g->cellstart[c2 + 1] - g->cellstart[c2];
-            if (nb == 0)
-                continue;
-            nbs += nb;
-            int dtx = (nx >> g->tile_shift) - tx, dty = (ny >> g->tile_shift) - ty;
-            int d = (dtx + 1) + 3 * (dty + 1);
-            bad |= scan_cells(e, m, c, c2, d == 4 ? in : &cross[d], 0, d2min, nearest_wanted);
+        dstencil s;
+        half_stencil_of(g, c, tx, ty, in, cross, &s);
+        looked += (uint64_t)na * (na - 1) / 2 + na * s.nbs;
+#if PSIM_AVX512
+        if (m->simd) {
+            bad |= search_cell_avx512(e, m, c, &s, d2min, nearest_wanted);
+            continue;
         }
-        looked += (uint64_t)na * (na - 1) / 2 + na * nbs;
+#endif
+        for (int k = 0; k < s.n; k++)
+            bad |= scan_cells(e, m, c, s.cell[k], s.to[k], k == 0, d2min, nearest_wanted);
     }
     *tests = looked;
     return bad;

@@ -6,6 +6,7 @@
 #include <omp.h>
 
 #include "discrete.h"
+#include "../../engine/cpu.h"
 #include "../../engine/tstats.h"
 #include "../../engine/mem.h"
 
@@ -124,6 +125,7 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
     if (!m)
         goto oom;
     m->regrid = psim_engine_option(e, "regrid", 1) != 0;
+    m->simd = psim_engine_option(e, "simd", 1) != 0 && psim_have_avx512();
     /* cells wider than 2r over the region the disks occupy: contacts are
      * in the same or adjacent cells (regrid.c) */
     if (discrete_plan_grid(e, m))
@@ -224,6 +226,8 @@ const psim_model psim_model_discrete = {
                  NULL},
     .options = {{"settle", "resolutions a step may take per disk before the run stops "
                            "(default 1000)", 1, 1e9},
+                {"simd", "0: contact search without AVX-512 even where the CPU has it "
+                         "(same results)", 0, 1},
                 {"regrid", "0: plan the grid once, over the disks' bounding box at the start, "
                            "and keep it (default 1: follow the disks)", 0, 1},
                 PSIM_SKIP_OPTION,

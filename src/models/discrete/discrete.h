@@ -126,6 +126,8 @@ typedef struct dmodel {
     uint64_t budget;         /* resolutions a step may take (settle x n) */
     double d2min;            /* nearest pair the last search saw, squared */
     dflight fl;              /* what the scene can use this step (flight.c) */
+    int simd;                /* contact search with AVX-512 (contacts.c;
+                              * --option simd, default 1 where the CPU has it) */
     int regrid;              /* the grid follows the disks (regrid.c; --option
                               * regrid, default 1) */
 } dmodel;

@@ -1,0 +1,70 @@
+#!/usr/bin/env bash
+# The AVX-512 paths give the bytes of the plain ones: --option simd=0 (the
+# plain path everywhere) against the default (AVX-512 where the CPU has it)
+# for the discrete model's contact search and the force model's list
+# builds, on 1 and 2 threads, on scenes that reach each branch of them:
+# crowded cells (more than one vector of disks, overlapping piles), a
+# sparse scene whose search measures the nearest pair (free flight), and
+# tiles with borders.  On a CPU without AVX-512 both runs take the plain
+# path and the test says so.
+set -euo pipefail
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+source "$(dirname "$0")/lib.sh" "$@"
+
+if grep -qw avx512f /proc/cpuinfo 2>/dev/null && grep -qw avx512vl /proc/cpuinfo 2>/dev/null; then
+    echo "this CPU has AVX-512: the default runs take the AVX-512 paths"
+else
+    echo "this CPU has no AVX-512: both runs take the plain paths"
+fi
+
+# same_both NAME ARGS...: --option simd=0 and the default agree (--out,
+# --trace and the model's counters), on 1 and 2 threads.
+same_both()
+{
+    local name=$1 t
+    shift
+    for t in 1 2; do
+        run_ok "$PSIM" --quiet --threads "$t" --out "$tmp/$name.plain.out" \
+            --trace "$tmp/$name.plain.trace" --stats "$tmp/$name.plain.json" -O simd=0 "$@"
+        run_ok "$PSIM" --quiet --threads "$t" --out "$tmp/$name.simd.out" \
+            --trace "$tmp/$name.simd.trace" --stats "$tmp/$name.simd.json" "$@"
+        same_file "$tmp/$name.plain.out" "$tmp/$name.simd.out" "$name, $t threads: --out"
+        same_file "$tmp/$name.plain.trace" "$tmp/$name.simd.trace" "$name, $t threads: --trace"
+        same_file <(grep left_out "$tmp/$name.plain.json") <(grep left_out "$tmp/$name.simd.json") \
+            "$name, $t threads: the stages left out"
+        local k
+        for k in contacts search_tests pair_resolutions list_entries interactions; do
+            local a b
+            a=$(sed -n "s/^ *\"$k\": \([0-9]*\).*/\1/p" "$tmp/$name.plain.json")
+            b=$(sed -n "s/^ *\"$k\": \([0-9]*\).*/\1/p" "$tmp/$name.simd.json")
+            [[ $a == "$b" ]] || fail "$name, $t threads: $k $a (plain) against $b"
+        done
+    done
+}
+
+# discrete: dense, with tiles; a pile (uniform placement at density 3:
+# cells of a dozen disks and more); sparse and slow (no contact for steps:
+# the search measures the nearest pair).
+gen "$tmp/dense.in" --n 4000 --r 2 --density 0.9 --steps 15 --seed 31
+same_both dense "$tmp/dense.in" --tile 8
+# piles at rest among slow disks: 24 disks within half a radius, in cells
+# of more than one vector of disks
+awk 'BEGIN {srand(34); n = 1200 + 5 * 24; print n; print 400; print 2; print 8
+    for (i = 0; i < 1200; i++)
+        printf "%d %.17g %.17g %.17g %.17g\n", i, 10 + (i % 35) * 11 + rand(),
+            10 + int(i / 35) * 11 + rand(), rand() - 0.5, rand() - 0.5
+    for (p = 0; p < 5; p++)
+        for (k = 0; k < 24; k++)
+            printf "%d %.17g %.17g 0 0\n", i++, 60 + 70 * p + rand(), 200 + rand()}' >"$tmp/pile.in"
+same_both pile "$tmp/pile.in"
+c=$(sed -n 's/^ *"contacts": \([0-9]*\).*/\1/p' "$tmp/pile.plain.json")
+((c >= 8 * 5 * 24 * 23 / 2)) || fail "the piles should give at least their 1380 pairs a step, gave $c in 8 steps"
+gen "$tmp/sparse.in" --n 2000 --r 1 --density 0.01 --place nonoverlap --vmin -0.02 --vmax 0.02 \
+    --steps 40 --seed 33
+same_both sparse "$tmp/sparse.in"
+grep -q '"left_out": {"search": [1-9]' "$tmp/sparse.simd.json" ||
+    fail "the sparse scene should leave a search out (its nearest pair measured)"
+# force: the course's scene, and one of many tiles
+same_both force1k --model force -n 1000 -s 3 --steps 30
+same_both force20k --model force -n 20000 -s 4 --steps 20
