@@ -86,7 +86,7 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
     m->naive = psim_engine_option(e, "naive", 0) != 0;
     m->stats = psim_engine_option(e, "stats", 0) != 0;
     m->skip = psim_engine_option(e, "skip", 1) != 0;
-    m->simd = psim_engine_option(e, "simd", 1) != 0 && force_have_avx512();
+    m->simd = psim_engine_option(e, "simd", 1) != 0 && psim_have_avx512();
     m->absmin = 1.0;
     if (m->naive) {
         if (force_plan_naive(m, e->n))

@@ -19,6 +19,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "../../engine/cpu.h"
 #include "../../engine/engine.h"
 #include "../../engine/nearest.h"
 #include "law.h"
@@ -133,23 +134,6 @@ static inline double force_drift_bound(const fmodel *m)
 {
     return m->drift + (double)(m->since_build + 1) * 8 * DBL_EPSILON * m->law.size;
 }
-
-/* The list builds have an AVX-512 path where the compiler can target it
- * (chosen at run time, on a CPU that has it; same lists either way). */
-#if defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__))
-#define PSIM_FORCE_AVX512 1
-static inline int force_have_avx512(void)
-{
-    __builtin_cpu_init();
-    return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl");
-}
-#else
-#define PSIM_FORCE_AVX512 0
-static inline int force_have_avx512(void)
-{
-    return 0;
-}
-#endif
 
 /* Sparse lists (fewer than one entry per FORCE_SPARSE particles) may have
  * room beyond the skin: nlist.c then measures the nearest unlisted pair. */

@@ -96,7 +96,7 @@ _Static_assert(FORCE_BUCKETS == 4, "list_cell files pairs by three thresholds");
 /* Position of an empty slot: farther than any reach from any particle. */
 #define FAR 1e300
 
-#if PSIM_FORCE_AVX512
+#if PSIM_AVX512
 #include <immintrin.h>
 _Static_assert(SLOTS == 4 && 2 * SLOTS == 8, "a cell is half a vector of eight slots");
 _Static_assert(sizeof(fpair) == 8 && offsetof(fpair, j) == 4, "a pair is one 64-bit lane");
@@ -145,7 +145,7 @@ static void fill_row(const psim_store *s, ftile *t, int ly)
     }
 }
 
-#if PSIM_FORCE_AVX512
+#if PSIM_AVX512
 /* fill_row, a cell at a time: masked loads, the empty slots FAR. */
 AVX512 static void fill_row_avx512(const psim_store *s, ftile *t, int ly)
 {
@@ -168,7 +168,7 @@ AVX512 static void fill_row_avx512(const psim_store *s, ftile *t, int ly)
 
 static void fill(const psim_store *s, ftile *t, int ly, int simd)
 {
-#if PSIM_FORCE_AVX512
+#if PSIM_AVX512
     if (simd) {
         fill_row_avx512(s, t, ly);
         return;
@@ -281,7 +281,7 @@ static void list_slots_sse2(ftile *t, const double *ox, const double *oy, const 
         t->len[b] = (size_t)(wp[b] - t->pair[b]);
 }
 
-#if PSIM_FORCE_AVX512
+#if PSIM_AVX512
 
 /* File the pairs of particle i with the slots of one vector: shell by
  * shell, the lanes of `hit` in that shell compressed to the front of a
@@ -360,7 +360,7 @@ static int list_cell(const psim_store *s, ftile *t, int lx, int ly, const double
     size_t own = row_at(t, ly) + (size_t)lx * SLOTS, up = row_at(t, ly + 1) + (size_t)(lx - 1) * SLOTS;
     const double *ox = t->rx + own, *oy = t->ry + own, *ux = t->rx + up, *uy = t->ry + up;
     const uint32_t *oj = t->rj + own, *uj = t->rj + up;
-#if PSIM_FORCE_AVX512
+#if PSIM_AVX512
     if (simd)
         list_slots_avx512(t, ox, oy, oj, ux, uy, uj, w[0], ns, thr);
     else
