@@ -72,6 +72,20 @@ static inline uint32_t psim_grid_cell(const psim_grid *g, double x, double y)
                          (uint32_t)psim_grid_coord(g, x, g->x0)];
 }
 
+/* Forward neighbour k (0..3) of cell (cx, cy) in the half stencil the
+ * contact searches walk, so that each pair of cells is met once: east,
+ * north-west, north, north-east.  Its rank, or UINT32_MAX when it is
+ * outside the grid; *nx, *ny its coordinates. */
+static inline uint32_t psim_grid_forward(const psim_grid *g, int cx, int cy, int k, int *nx,
+                                         int *ny)
+{
+    static const int fwd[4][2] = {{1, 0}, {-1, 1}, {0, 1}, {1, 1}};
+    *nx = cx + fwd[k][0], *ny = cy + fwd[k][1];
+    if (*nx < 0 || *ny < 0 || *nx >= g->G || *ny >= g->G)
+        return UINT32_MAX;
+    return g->rank_of_xy[*ny * g->G + *nx];
+}
+
 static inline uint32_t psim_grid_tile_of_cell(const psim_grid *g, uint32_t cell)
 {
     int tx = g->cell_x[cell] >> g->tile_shift, ty = g->cell_y[cell] >> g->tile_shift;

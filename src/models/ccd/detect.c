@@ -463,8 +463,6 @@ static uint32_t lower(const double *sx0, uint32_t b0, uint32_t b1, double x)
     return b0;
 }
 
-static const int fwd[4][2] = {{1, 0}, {-1, 1}, {0, 1}, {1, 1}};
-
 /* Pairs of rows [k0, k1) of cell `cell` with the four forward neighbour
  * cells. */
 static uint64_t sweep_neighbours(detect_ctx *c, uint32_t cell, uint32_t k0, uint32_t k1,
@@ -475,10 +473,10 @@ static uint64_t sweep_neighbours(detect_ctx *c, uint32_t cell, uint32_t k0, uint
     uint64_t tests = 0;
     int cx = g->cell_x[cell], cy = g->cell_y[cell];
     for (int d = 0; d < 4; d++) {
-        int nx = cx + fwd[d][0], ny = cy + fwd[d][1];
-        if (nx < 0 || ny < 0 || nx >= g->G || ny >= g->G)
+        int nx, ny;
+        uint32_t nb = psim_grid_forward(g, cx, cy, d, &nx, &ny);
+        if (nb == UINT32_MAX)
             continue;
-        uint32_t nb = g->rank_of_xy[ny * g->G + nx];
         uint32_t b0 = g->cellstart[nb], b1 = g->cellstart[nb + 1];
         if (b0 == b1)
             continue;

@@ -12,8 +12,6 @@
 #include "../../engine/mem.h"
 #include "../../engine/tstats.h"
 
-static const int half_stencil[4][2] = {{1, 0}, {-1, 1}, {0, 1}, {1, 1}};
-
 /* All pairs (i in cell ca, j in cell cb) at distance <= 2r, appended to
  * *to.  Room for every candidate is made first, so the append is
  * branch-free: the overlap test only decides whether the count advances. */
@@ -108,10 +106,10 @@ half_stencil_of(const psim_grid *g, uint32_t c, int tx, int ty, dlist *in, dlist
     s->nbs = 0;
     int cx = g->cell_x[c], cy = g->cell_y[c];
     for (int k = 0; k < 4; k++) {
-        int nx = cx + half_stencil[k][0], ny = cy + half_stencil[k][1];
-        if (nx < 0 || ny < 0 || nx >= g->G || ny >= g->G)
+        int nx, ny;
+        uint32_t c2 = psim_grid_forward(g, cx, cy, k, &nx, &ny);
+        if (c2 == UINT32_MAX)
             continue;
-        uint32_t c2 = g->rank_of_xy[ny * g->G + nx];
         uint32_t nb = g->cellstart[c2 + 1] - g->cellstart[c2];
         if (nb == 0)
             continue;
