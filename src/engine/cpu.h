@@ -5,7 +5,9 @@
 #ifndef PSIM_ENGINE_CPU_H
 #define PSIM_ENGINE_CPU_H
 
-#if defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__))
+/* x86-64 only: on 32-bit x86 the plain paths may compute in x87's longer
+ * precision, and then their results could differ from the vectors' */
+#if defined(__GNUC__) && defined(__x86_64__)
 #define PSIM_AVX512 1
 static inline int psim_have_avx512(void)
 {

@@ -23,8 +23,6 @@ double psim_nearest2(const psim_sim *e, double above2)
 {
     const psim_grid *g = &e->grid;
     const psim_store *s = &e->st;
-    /* the forward half of the 3 x 3 stencil: each pair of cells once */
-    static const int fwd[4][2] = {{1, 0}, {-1, 1}, {0, 1}, {1, 1}};
     double best = INFINITY;
     const long n = (long)s->n;
     /* the non-empty cells, each at its first particle: O(n), not O(cells) */
@@ -36,11 +34,11 @@ double psim_nearest2(const psim_sim *e, double above2)
             continue;
         best = cell_pairs(s, a0, a1, NONE, 0, above2, best);
         int cx = g->cell_x[c], cy = g->cell_y[c];
-        for (int k = 0; k < 4; k++) {
-            int nx = cx + fwd[k][0], ny = cy + fwd[k][1];
-            if (nx < 0 || nx >= g->G || ny >= g->G)
+        for (int k = 0; k < 4; k++) {   /* the forward half: each pair of cells once */
+            int nx, ny;
+            uint32_t r = psim_grid_forward(g, cx, cy, k, &nx, &ny);
+            if (r == UINT32_MAX)
                 continue;
-            uint32_t r = g->rank_of_xy[(uint32_t)ny * (uint32_t)g->G + (uint32_t)nx];
             best = cell_pairs(s, a0, a1, g->cellstart[r], g->cellstart[r + 1], above2, best);
         }
     }
