@@ -1,4 +1,4 @@
-/* The event model's calendar (Paul's buckets and a small heap): events
+/* The event model's calendar (Paul's buckets, the current one sorted): events
  * pushed in a random order, with ties, far-future events (the overflow
  * beyond the bucket window), and pushes between pops (never earlier than
  * the last event taken, as the model does) come out in time order, every

@@ -1,10 +1,13 @@
 /* The event calendar of the event model, after Paul (J. Comput. Phys.
- * 221, 2007): the events of the current time bucket (width w) in a small
- * binary heap, later ones appended to the list of their bucket (a window
- * of ECAL_BUCKETS buckets, then an overflow list, spread again when the
- * window moves on), so that pushing an event costs O(1) and the heap stays
- * small and in cache.  With buckets off, every event goes to the heap (the
- * baseline).  Either way events come out in (time, a, b) order: the
+ * 221, 2007): the events of the current time bucket (width w) in order,
+ * later ones appended to the list of their bucket (a window of
+ * ECAL_BUCKETS buckets, then an overflow list, spread again when the
+ * window moves on), so that pushing an event costs O(1) and the current
+ * bucket is small and in cache.  Paul keeps the current bucket in a binary
+ * heap; here it is sorted once when it becomes current (some ten events)
+ * and taken from the front, an event that arrives for it meanwhile (rare:
+ * a bucket is the time of a few events in all the box) inserted in place.
+ * With buckets off, every event goes to one binary heap (the baseline).  Either way events come out in (time, a, b) order: the
  * results do not depend on the calendar.  Stale events stay in and are
  * dropped when they come up: each event carries its disk's schedule count
  * and its partner's path count (event.h). */
@@ -30,9 +33,13 @@ typedef struct evec {
 #define ECAL_BUCKETS 4096
 
 typedef struct ecal {
-    evec heap;          /* the current bucket's events (all, without buckets) */
+    evec heap;          /* without buckets: all events, a binary heap; with
+                         * them: the current bucket's, heap.e[first..n) in
+                         * order */
+    size_t first;
     int buckets;        /* 0: heap only */
-    double t0, w;       /* bucket k holds t in [t0 + k w, t0 + (k + 1) w) */
+    double t0, w, iw;   /* bucket k holds t with (t - t0) iw in [k, k + 1),
+                         * iw = 1 / w */
     int64_t cur;        /* the current bucket */
     evec *bucket;       /* ECAL_BUCKETS: bucket k at k mod ECAL_BUCKETS */
     size_t inbuckets;   /* events in the buckets */

@@ -28,6 +28,8 @@ static int plan_cells(emodel *m)
     double g = per < most ? per : most;
     m->G = g >= 1 ? (int)g : 1;
     m->h = m->L / m->G;
+    for (int k = 0; k < 9; k++)
+        m->around[k] = (k / 3 - 1) * (m->G + 2) + (k % 3 - 1);
     return 0;
 }
 
@@ -52,7 +54,7 @@ static long first_overlap(const emodel *m, long *jout)
             for (int x = m->d[i].cx - 1; x <= m->d[i].cx + 1; x++) {
                 if (x < 0 || y < 0 || x >= m->G || y >= m->G)
                     continue;
-                for (int32_t j = m->head[y * m->G + x]; j >= 0; j = m->d[j].next) {
+                for (int32_t j = m->head[event_cell(m, x, y)]; j >= 0; j = m->d[j].next) {
                     double dx = m->d[j].x - m->d[i].x, dy = m->d[j].y - m->d[i].y;
                     if (j > i && dx * dx + dy * dy < m->sigma2 * (1 - EVENT_TOUCH) &&
                         (best < 0 || j < best))
@@ -84,7 +86,7 @@ static long first_outside(const emodel *m)
 
 static int alloc_state(emodel *m)
 {
-    size_t cells = (size_t)m->G * (size_t)m->G;
+    size_t cells = (size_t)(m->G + 2) * (size_t)(m->G + 2);   /* and a border */
     m->d = psim_calloc((size_t)m->n * sizeof *m->d);   /* psim_alloc: cache-line aligned */
     m->plan = psim_calloc((size_t)m->n * sizeof *m->plan);
     m->head = psim_alloc(cells * sizeof *m->head);
@@ -303,7 +305,7 @@ static int check(psim_sim *e, void *p, const psim_snapshot *before,
             for (int cx = m->d[i].cx - 1; cx <= m->d[i].cx + 1; cx++) {
                 if (cx < 0 || cy < 0 || cx >= m->G || cy >= m->G)
                     continue;
-                for (int32_t j = m->head[cy * m->G + cx]; j >= 0; j = m->d[j].next) {
+                for (int32_t j = m->head[event_cell(m, cx, cy)]; j >= 0; j = m->d[j].next) {
                     double dx = after->x[j] - x, dy = after->y[j] - y;
                     if (j > i && dx * dx + dy * dy < lim) {
                         psim_error_set(err, "step %ld: disks %ld and %d overlap (centres "
@@ -336,7 +338,7 @@ const psim_model psim_model_event = {
     .sorts_itself = 1,
     .restart_cols = {"t_own", "x_own", "y_own", "cell_x", "cell_y", "last", NULL},
     .restart_save = restart_save,
-    .options = {{"calendar", "1: Paul's calendar (buckets and a small heap, default); "
+    .options = {{"calendar", "1: Paul's calendar (buckets, the current one sorted; default); "
                              "0: one binary heap (the baseline)", 0, 1},
                 {NULL, NULL, 0, 0}},
     .create = create,

@@ -49,16 +49,26 @@ typedef struct emodel {
     double L, r, sigma2;    /* box side, radius, (2r)^2 */
     double lo, hi;          /* walls for centres: r and L - r */
     int G;                  /* cells per side */
+    int32_t around[9];      /* head offsets of the 3 x 3 cells around one */
     double h;               /* cell side L / G >= 2r */
     edisk *d;               /* n disks */
     eplan *plan;            /* n: their plans */
-    int32_t *head;          /* first disk of each cell (-1: none) */
+    int32_t *head;          /* first disk of each cell (-1: none), on a grid
+                             * with a border of empty cells: see event_cell */
     ecal cal;
     int buckets;            /* the calendar's buckets on (off: a heap) */
     double now;             /* time of the event being processed */
     double virial;          /* sum over collisions of -dr.dv (= r_ab . dp_a) */
     double wall_impulse;    /* sum over wall hits of 2 |v_n| (unit masses) */
 } emodel;
+
+/* Cell (cx, cy)'s place in head: the grid has a border of one empty cell
+ * on every side, so that the 3 x 3 cells around any cell are there to be
+ * read without bounds. */
+static inline int32_t event_cell(const emodel *m, int cx, int cy)
+{
+    return (cy + 1) * (m->G + 2) + (cx + 1);
+}
 
 /* run.c */
 int event_predict_disk(psim_sim *e, emodel *m, int32_t a);

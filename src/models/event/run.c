@@ -7,7 +7,7 @@
 
 void event_cell_insert(emodel *m, int32_t i)
 {
-    int32_t c = m->d[i].cy * m->G + m->d[i].cx;
+    int32_t c = event_cell(m, m->d[i].cx, m->d[i].cy);
     m->d[i].prev = -1;
     m->d[i].next = m->head[c];
     if (m->head[c] >= 0)
@@ -17,7 +17,7 @@ void event_cell_insert(emodel *m, int32_t i)
 
 void event_cell_remove(emodel *m, int32_t i)
 {
-    int32_t c = m->d[i].cy * m->G + m->d[i].cx;
+    int32_t c = event_cell(m, m->d[i].cx, m->d[i].cy);
     if (m->d[i].prev >= 0)
         m->d[m->d[i].prev].next = m->d[i].next;
     else
@@ -26,17 +26,14 @@ void event_cell_remove(emodel *m, int32_t i)
         m->d[m->d[i].next].prev = m->d[i].prev;
 }
 
-/* The earliest collision of disk a with the disks of cells x0..x1 of row
- * y, if earlier than (*t, *b) (ties: the lower partner). */
-static void earliest_in_row(const emodel *m, int32_t a, int y, int x0, int x1, double *t,
-                            int32_t *b)
+/* The earliest collision of disk a with the disks of the k cells at
+ * offsets off[0..k) from head + c, if earlier than (*t, *b) (ties: the
+ * lower partner). */
+static inline void earliest_in_cells(const emodel *m, int32_t a, int32_t c, const int32_t *off,
+                                     int k, double *t, int32_t *b)
 {
-    if (y < 0 || y >= m->G)
-        return;
-    x0 = x0 < 0 ? 0 : x0;
-    x1 = x1 >= m->G ? m->G - 1 : x1;
-    for (int x = x0; x <= x1; x++)
-        for (int32_t q = m->head[y * m->G + x]; q >= 0; q = m->d[q].next) {
+    for (int i = 0; i < k; i++)
+        for (int32_t q = m->head[c + off[i]]; q >= 0; q = m->d[q].next) {
             if (q == a)
                 continue;
             double tq = event_pair_time(m, a, q);
@@ -52,8 +49,8 @@ static void plan_pairs(emodel *m, int32_t a)
     eplan *p = &m->plan[a];
     p->tp = INFINITY;
     p->bp = -1;
-    for (int y = m->d[a].cy - 1; y <= m->d[a].cy + 1; y++)
-        earliest_in_row(m, a, y, m->d[a].cx - 1, m->d[a].cx + 1, &p->tp, &p->bp);
+    earliest_in_cells(m, a, event_cell(m, m->d[a].cx, m->d[a].cy), m->around, 9, &p->tp,
+                      &p->bp);
     p->cp = p->bp >= 0 ? m->d[p->bp].cnt : 0;
 }
 
@@ -176,11 +173,13 @@ static int cross(psim_sim *e, emodel *m, int32_t a, int axis)
     plan_axis(m, a, axis);
     if (p->bp >= 0 && p->cp != m->d[p->bp].cnt)
         plan_pairs(m, a);
-    else if (axis)
-        earliest_in_row(m, a, m->d[a].cy + d, m->d[a].cx - 1, m->d[a].cx + 1, &p->tp, &p->bp);
-    else
-        for (int y = m->d[a].cy - 1; y <= m->d[a].cy + 1; y++)
-            earliest_in_row(m, a, y, m->d[a].cx + d, m->d[a].cx + d, &p->tp, &p->bp);
+    else {   /* the new row (around[6..8] or [0..2]) or column of neighbours */
+        int32_t c = event_cell(m, m->d[a].cx, m->d[a].cy);
+        int32_t line[3];
+        for (int k = 0; k < 3; k++)
+            line[k] = m->around[axis ? (d > 0 ? 6 : 0) + k : 3 * k + (d > 0 ? 2 : 0)];
+        earliest_in_cells(m, a, c, line, 3, &p->tp, &p->bp);
+    }
     p->cp = p->bp >= 0 ? m->d[p->bp].cnt : 0;
     return schedule(e, m, a);
 }
