@@ -140,7 +140,8 @@ int ecal_reset(ecal *c, int buckets, double t0, double w)
     return 0;
 }
 
-int ecal_push(ecal *c, eevent ev)
+/* Any push (ecal_push takes the common case inline). */
+int ecal_push_any(ecal *c, eevent ev)
 {
     c->total++;
     if (!c->buckets)
@@ -204,21 +205,17 @@ static int next_bucket(ecal *c)
     return 0;
 }
 
-const eevent *ecal_peek(ecal *c)
+/* ecal_peek when the current bucket is used up: the next that has events. */
+const eevent *ecal_peek_next(ecal *c)
 {
     if (c->heap.n == c->first && c->buckets && next_bucket(c))
         c->oom = 1;
     return c->heap.n > c->first && !c->oom ? &c->heap.e[c->first] : NULL;
 }
 
-void ecal_pop(ecal *c)
+void ecal_pop_heap(ecal *c)
 {
     evec *h = &c->heap;
-    c->total--;
-    if (c->buckets) {
-        c->first++;
-        return;
-    }
     eevent last = h->e[--h->n];
     if (h->n > 0)
         sift_down(h->e, h->n, 0, last);

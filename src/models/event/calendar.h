@@ -50,12 +50,48 @@ typedef struct ecal {
 
 /* Empty the calendar; with buckets, of width w from time t0.  -1: no memory. */
 int ecal_reset(ecal *c, int buckets, double t0, double w);
-/* Add an event (at or after the current bucket); -1 when out of memory. */
-int ecal_push(ecal *c, eevent ev);
-/* The earliest event, or NULL when there is none (or c->oom is set). */
-const eevent *ecal_peek(ecal *c);
-/* Remove the earliest event (after ecal_peek returned it). */
-void ecal_pop(ecal *c);
 void ecal_free(ecal *c);
+/* calendar.c: what the inline calls below do but for their common case */
+int ecal_push_any(ecal *c, eevent ev);
+const eevent *ecal_peek_next(ecal *c);
+void ecal_pop_heap(ecal *c);
+
+/* Add an event (at or after the current bucket); -1 when out of memory.
+ * Inline: a later bucket of the window with room in its list (most
+ * pushes), the bucket as calendar.c's bucket_of gives it. */
+static inline int ecal_push(ecal *c, eevent ev)
+{
+    if (c->buckets) {
+        double k = (ev.t - c->t0) * c->iw;
+        if (k >= 0 && k < 9.0e18 && (int64_t)k > c->cur && (int64_t)k - c->cur < ECAL_BUCKETS) {
+            evec *v = &c->bucket[(int64_t)k % ECAL_BUCKETS];
+            if (v->n < v->cap) {
+                v->e[v->n++] = ev;
+                c->inbuckets++;
+                c->total++;
+                return 0;
+            }
+        }
+    }
+    return ecal_push_any(c, ev);
+}
+
+/* The earliest event, or NULL when there is none (or c->oom is set). */
+static inline const eevent *ecal_peek(ecal *c)
+{
+    if (c->heap.n > c->first && !c->oom)
+        return &c->heap.e[c->first];
+    return ecal_peek_next(c);
+}
+
+/* Remove the earliest event (after ecal_peek returned it). */
+static inline void ecal_pop(ecal *c)
+{
+    c->total--;
+    if (c->buckets)
+        c->first++;
+    else
+        ecal_pop_heap(c);
+}
 
 #endif
