@@ -115,6 +115,7 @@ static void destroy(void *p)
     tile_state_free(m);
     psim_free(m->active);
     psim_free(m->flag);
+    psim_free(m->nearwall);
     free(m);
 }
 
@@ -139,7 +140,8 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
     m->fl.quiet = 1;   /* the first drift looks at the velocities */
     m->active = psim_calloc((size_t)e->n + 1);
     m->flag = psim_calloc((size_t)e->n + 1);
-    if (!m->active || !m->flag || tile_state_build(e, m))
+    m->nearwall = psim_calloc((size_t)e->n + 1);
+    if (!m->active || !m->flag || !m->nearwall || tile_state_build(e, m))
         goto oom;
     return m;
 oom:

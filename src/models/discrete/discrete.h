@@ -119,6 +119,7 @@ typedef struct dmodel {
     uint64_t *edge_res; /* per edge, this round */
     uint8_t *active;    /* per particle: changed by an edge task */
     uint8_t *flag;      /* per particle: worklist state (resolve.c) */
+    uint8_t *nearwall;  /* per particle, this step: within r of a wall (resolve.c) */
     char *dep;          /* one dependence object per tile */
     double four_r2;
     uint64_t step_contacts;  /* contacts found this step */

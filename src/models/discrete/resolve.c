@@ -47,7 +47,7 @@ static void tile_task(const psim_sim *e, dmodel *m, dtile *t, int first)
     const double *x = e->st.x, *y = e->st.y;
     const double L = e->L, r = e->r;
     const int walls = e->grid.tile_wall[t - m->tiles] && m->fl.walls;
-    uint8_t *restrict flag = m->flag, *act = m->active;
+    uint8_t *restrict flag = m->flag, *act = m->active, *near = m->nearwall;
     wl w = {t->queue, t->p1 - t->p0, 0, 0};
     uint64_t checks = 0, pres = 0, wres = 0;
     const uint64_t budget = m->budget;
@@ -63,6 +63,9 @@ static void tile_task(const psim_sim *e, dmodel *m, dtile *t, int first)
                 continue;
         }
         act[i] = 0;
+        if (first && walls)   /* positions are frozen: a wall's reach, once a step */
+            near[i] = (uint8_t)((x[i] - r <= 0) | (x[i] + r >= L) | (y[i] - r <= 0) |
+                                (y[i] + r >= L));
         if (t->adj0[i - t->p0] == t->adj0[i - t->p0 + 1]) {
             /* no contact inside the tile: only its walls, now; its queue
              * turn would change nothing else */
@@ -87,7 +90,7 @@ static void tile_task(const psim_sim *e, dmodel *m, dtile *t, int first)
         flag[i] = F_SEEN;
         const double xi = x[i], yi = y[i];
         double vxi = vx[i], vyi = vy[i];
-        if (walls && psim_wall_collides(xi, yi, vxi, vyi, L, r)) {
+        if (walls && near[i] && psim_wall_collides(xi, yi, vxi, vyi, L, r)) {
             psim_wall_resolve(xi, yi, &vxi, &vyi, L, r);
             wres++;
             full = 1;
