@@ -63,9 +63,6 @@ static void tile_task(const psim_sim *e, dmodel *m, dtile *t, int first)
                 continue;
         }
         act[i] = 0;
-        if (first && walls)   /* positions are frozen: a wall's reach, once a step */
-            near[i] = (uint8_t)((x[i] - r <= 0) | (x[i] + r >= L) | (y[i] - r <= 0) |
-                                (y[i] + r >= L));
         if (t->adj0[i - t->p0] == t->adj0[i - t->p0 + 1]) {
             /* no contact inside the tile: only its walls, now; its queue
              * turn would change nothing else */
@@ -76,6 +73,9 @@ static void tile_task(const psim_sim *e, dmodel *m, dtile *t, int first)
             }
             continue;
         }
+        if (first && walls)   /* positions are frozen: a wall's reach, once a step */
+            near[i] = (uint8_t)((x[i] - r <= 0) | (x[i] + r >= L) | (y[i] - r <= 0) |
+                                (y[i] + r >= L));
         flag[i] = first ? 0 : (uint8_t)(flag[i] | F_CHANGED);
         wl_push(&w, flag, i);
     }
