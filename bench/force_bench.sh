@@ -1,18 +1,24 @@
 #!/usr/bin/env bash
 # Benchmark the force model (Berkeley CS267 HW2) on the course's own scenes:
 # n = 1e3, 1e4, 1e5, 1e6 particles, 1000 steps, no output (as the course
-# times its serial scaling), at 1 and 2 threads; fits the log-log slope of
-# time against n (the course's serial scaling exponent) and, with --plot,
-# draws time per step against n.
+# times its serial scaling), at 1 and 2 threads (or --threads); fits the
+# log-log slope of time against n (the course's serial scaling exponent)
+# and, with --plot, draws time per step against n.  The course's parallel
+# efficiencies: strong scaling T(1, n) / (p T(p, n)) for every n and thread
+# count p, and with --weak N weak scaling T(1, N) / T(p, p N).
 #
 # usage: bench/force_bench.sh [--runs K] [--steps S] [--sizes "N ..."]
+#                             [--threads "P ..."] [--weak N]
 #                             [--plot PNG] [--skin S] [BUILD_DIR]
-#   --runs K    runs per measurement, the median is reported (default 3)
-#   --steps S   steps per run (default 1000, the course's)
-#   --sizes L   particle counts (default "1000 10000 100000 1000000")
-#   --plot PNG  write a log-log plot of the 1-thread times (matplotlib)
-#   --skin S    neighbour-list skin in cutoffs (default: psim's)
-#   BUILD_DIR   directory holding psim (default build)
+#   --runs K     runs per measurement, the median is reported (default 3)
+#   --steps S    steps per run (default 1000, the course's)
+#   --sizes L    particle counts (default "1000 10000 100000 1000000")
+#   --threads L  thread counts (default "1 2"; 1 is added if missing), e.g.
+#                "1 2 4 8 16" on a 16-core machine
+#   --weak N     also weak scaling: N particles a thread, at each count
+#   --plot PNG   write a log-log plot of the 1-thread times (matplotlib)
+#   --skin S     neighbour-list skin in cutoffs (default: psim's)
+#   BUILD_DIR    directory holding psim (default build)
 #
 # Times are psim's time_s from --stats (the steps, without start-up).
 # Before timing, the fast path is checked against --naive (identical bytes)
@@ -22,6 +28,8 @@ set -euo pipefail
 runs=3
 steps=1000
 sizes="1000 10000 100000 1000000"
+threads="1 2"
+weak=""
 plot=""
 skin=""
 build=build
@@ -30,13 +38,23 @@ while [ $# -gt 0 ]; do
         --runs) runs="$2"; shift 2 ;;
         --steps) steps="$2"; shift 2 ;;
         --sizes) sizes="$2"; shift 2 ;;
+        --threads) threads="$2"; shift 2 ;;
+        --weak) weak="$2"; shift 2 ;;
         --plot) plot="$2"; shift 2 ;;
         --skin) skin="$2"; shift 2 ;;
-        -h|--help) sed -n '2,20p' "$0"; exit 0 ;;
+        -h|--help) sed -n '2,27p' "$0"; exit 0 ;;
         -*) echo "unknown option: $1" >&2; exit 2 ;;
         *) build="$1"; shift ;;
     esac
 done
+for p in $threads ${weak:+$weak}; do
+    case "$p" in ''|*[!0-9]*|0) echo "force_bench.sh: not a positive count: $p" >&2; exit 2 ;; esac
+done
+case " $threads " in *" 1 "*) ;; *) threads="1 $threads" ;; esac
+if [ -n "$plot" ] && ! python3 -c 'import matplotlib' 2>/dev/null; then
+    echo "force_bench.sh: --plot needs python3-matplotlib (bash scripts/install-bench-deps.sh)" >&2
+    exit 1
+fi
 psim="$build/psim"
 [ -x "$psim" ] || { echo "missing $psim (build first)" >&2; exit 1; }
 tmp=$(mktemp -d "${TMPDIR:-/tmp}/force_bench.XXXXXX")
@@ -62,25 +80,57 @@ cmp -s "$tmp/fast.txt" "$tmp/naive.txt" || { echo "fast path and --naive DIFFER"
 echo "check: n 1000, 100 steps: fast path and --naive outputs are byte-identical"
 echo "load average at start: $(cut -d" " -f1-3 /proc/loadavg); runs: $runs (median), steps: $steps"
 echo
-echo "| n | 1 thread s | 2 threads s | 2-thread speedup | ns per particle-step (1 thread) |"
-echo "|---:|---:|---:|---:|---:|"
+# the table: a time per thread count, then each count's speed-up over one
+# thread and its strong-scaling efficiency
+python3 - "$threads" <<'PY'
+import sys
+ps = [int(p) for p in sys.argv[1].split()]
+cols = ["%d thread%s s" % (p, "" if p == 1 else "s") for p in ps]
+cols += ["speed-up (efficiency) at %d" % p for p in ps if p != 1]
+print("| n | " + " | ".join(cols) + " | ns per particle-step (1 thread) |")
+print("|---:|" + "---:|" * len(cols) + "---:|")
+PY
 : > "$tmp/points"
 for n in $sizes; do
-    t1=$(psim_time "$n" 1)
-    t2=$(psim_time "$n" 2)
-    echo "$n $t1 $t2" >> "$tmp/points"
-    python3 -c 'import sys; n,a,b,s=int(sys.argv[1]),float(sys.argv[2]),float(sys.argv[3]),int(sys.argv[4])
-print("| %d | %.3f | %.3f | %.2f | %.1f |" % (n, a, b, a / b, a / n / s * 1e9))' "$n" "$t1" "$t2" "$steps"
+    line="$n"
+    for p in $threads; do line="$line $(psim_time "$n" "$p")"; done
+    echo "$line" >> "$tmp/points"
+    python3 - "$threads" "$steps" $line <<'PY'
+import sys
+ps = [int(p) for p in sys.argv[1].split()]
+steps, n, ts = int(sys.argv[2]), int(sys.argv[3]), [float(t) for t in sys.argv[4:]]
+t1 = ts[ps.index(1)]
+cells = ["%.3f" % t for t in ts]
+cells += ["%.2f (%.2f)" % (t1 / t, t1 / t / p) for p, t in zip(ps, ts) if p != 1]
+print("| %d | %s | %.1f |" % (n, " | ".join(cells), t1 / n / steps * 1e9))
+PY
 done
-python3 - "$tmp/points" "$plot" "$steps" <<'PY'
+if [ -n "$weak" ]; then
+    echo
+    echo "weak scaling, $weak particles a thread (efficiency T(1, $weak) / T(p, p $weak)):"
+    echo
+    echo "| threads | particles | s | efficiency |"
+    echo "|---:|---:|---:|---:|"
+    tw1=""
+    for p in $threads; do
+        tw=$(psim_time $((weak * p)) "$p")
+        [ -z "$tw1" ] && tw1=$tw
+        python3 -c 'import sys; p,n,t,t1=int(sys.argv[1]),int(sys.argv[2]),float(sys.argv[3]),float(sys.argv[4])
+print("| %d | %d | %.3f | %.2f |" % (p, n, t, t1 / t))' "$p" $((weak * p)) "$tw" "$tw1"
+    done
+fi
+python3 - "$tmp/points" "$plot" "$steps" "$threads" <<'PY'
 import math, sys
 pts = [tuple(map(float, l.split())) for l in open(sys.argv[1])]
+ps = [int(p) for p in sys.argv[4].split()]
 def slope(k):
     xs = [math.log(p[0]) for p in pts]; ys = [math.log(p[k]) for p in pts]
     mx, my = sum(xs) / len(xs), sum(ys) / len(ys)
     return sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / sum((x - mx) ** 2 for x in xs)
 if len(pts) > 1:
-    print("\nlog-log slope of time against n: 1 thread %.3f, 2 threads %.3f" % (slope(1), slope(2)))
+    print("\nlog-log slope of time against n: " +
+          ", ".join("%d thread%s %.3f" % (p, "" if p == 1 else "s", slope(1 + k))
+                    for k, p in enumerate(ps)))
 if sys.argv[2]:
     import matplotlib
     matplotlib.use("Agg")
@@ -88,9 +138,11 @@ if sys.argv[2]:
     steps = float(sys.argv[3])
     n = [p[0] for p in pts]
     fig, ax = plt.subplots(figsize=(5.5, 4))
-    ax.loglog(n, [p[1] for p in pts], "o-", label="psim, 1 thread")
-    ax.loglog(n, [p[2] for p in pts], "s-", label="psim, 2 threads")
-    ax.loglog(n, [pts[0][1] * x / n[0] for x in n], ":", color="grey", label="slope 1")
+    for k, p in enumerate(ps):
+        ax.loglog(n, [q[1 + k] for q in pts], "os^vD<>"[k % 7] + "-",
+                  label="psim, %d thread%s" % (p, "" if p == 1 else "s"))
+    ax.loglog(n, [pts[0][1 + ps.index(1)] * x / n[0] for x in n], ":", color="grey",
+              label="slope 1")
     ax.loglog([1e6], [245 * steps / 1000], "k^", label="CS267 MPI solution, 1 rank (published)")
     ax.set_xlabel("particles"); ax.set_ylabel("seconds for %d steps" % steps)
     ax.set_title("force model (CS267 HW2), no output")
