@@ -1,5 +1,5 @@
-/* Paul's calendar: a small binary heap for the current bucket, lists for
- * later buckets (calendar.h). */
+/* Paul's calendar: the current bucket's events in order, lists for later
+ * buckets; without buckets, one binary heap (calendar.h). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
