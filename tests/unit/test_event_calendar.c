@@ -19,7 +19,8 @@ static double uniform(void)
 }
 
 /* A time at or after now: mostly near, some ties, some far beyond the
- * window of buckets of width w (the same times for every calendar: w = 1). */
+ * window of ECAL_BUCKETS buckets of width w (the same times for every
+ * calendar: w = 1). */
 static double draw_time(double now, double w)
 {
     double u = uniform();
@@ -39,12 +40,13 @@ static double draw_time(double now, double w)
 #define MAXOPS 60000
 static eevent out[MAXOPS];
 
-/* Returns the number of events that came out (in out[]). */
-static long run(int buckets, double w)
+/* Returns the number of events that came out (in out[]); nb buckets. */
+static long run(int buckets, int64_t nb, double w)
 {
     rng = 88172645463325252ull;   /* the same pushes for every calendar */
     ecal c = {0};
-    CHECK(ecal_reset(&c, buckets, 0.0, w) == 0);
+    CHECK(ecal_reset(&c, buckets, nb, 0.0, w) == 0);
+    CHECK(!buckets || (c.nb >= nb && c.nb >= ECAL_BUCKETS && (c.nb & (c.nb - 1)) == 0));
     long pushed = 0, popped = 0;
     for (int i = 0; i < 20000; i++, pushed++)
         CHECK(ecal_push(&c, (eevent){draw_time(0, 1.0), (int32_t)(uniform() * 100),
@@ -75,16 +77,21 @@ static long run(int buckets, double w)
 int main(void)
 {
     static eevent ref[MAXOPS];
-    long n = run(0, 1.0);
+    long n = run(0, 0, 1.0);
     for (long i = 0; i < n; i++)
         ref[i] = out[i];
+    /* windows of ECAL_BUCKETS buckets, and of more (5000: rounded up to 8192,
+     * so that the draws' overflow and window edges fall inside its window) */
     const double widths[] = {1.0, 1e-3, 0.37, 50.0};
-    for (int k = 0; k < 4; k++) {
-        long m = run(1, widths[k]);
-        int same = m == n;
-        for (long i = 0; same && i < n; i++)
-            same = ref[i].t == out[i].t && ref[i].a == out[i].a && ref[i].b == out[i].b;
-        CHECK_MSG(same, "width %g: not the heap's order", widths[k]);
-    }
+    const int64_t counts[] = {0, 5000};
+    for (int j = 0; j < 2; j++)
+        for (int k = 0; k < 4; k++) {
+            long m = run(1, counts[j], widths[k]);
+            int same = m == n;
+            for (long i = 0; same && i < n; i++)
+                same = ref[i].t == out[i].t && ref[i].a == out[i].a && ref[i].b == out[i].b;
+            CHECK_MSG(same, "%lld buckets, width %g: not the heap's order",
+                      (long long)counts[j], widths[k]);
+        }
     return check_done();
 }

@@ -113,14 +113,14 @@ static int place(ecal *c, eevent ev)
     int64_t k = bucket_of(c, ev.t);
     if (k == c->cur)
         return run_insert(&c->heap, c->first, ev);
-    if (k - c->cur < ECAL_BUCKETS) {
+    if (k - c->cur < c->nb) {
         c->inbuckets++;
-        return vec_push(&c->bucket[k % ECAL_BUCKETS], ev);
+        return vec_push(&c->bucket[k & (c->nb - 1)], ev);
     }
     return vec_push(&c->over, ev);
 }
 
-int ecal_reset(ecal *c, int buckets, double t0, double w)
+int ecal_reset(ecal *c, int buckets, int64_t nb, double t0, double w)
 {
     c->heap.n = c->over.n = 0;
     c->first = 0;
@@ -133,9 +133,20 @@ int ecal_reset(ecal *c, int buckets, double t0, double w)
     c->cur = 0;
     if (!c->buckets)
         return 0;
-    if (!c->bucket && !(c->bucket = psim_calloc(ECAL_BUCKETS * sizeof *c->bucket)))
+    int64_t p = ECAL_BUCKETS;   /* a power of two, at least nb */
+    while (p < nb && p < ((int64_t)1 << 40))
+        p <<= 1;
+    nb = p;
+    if (c->bucket && c->nb != nb) {   /* another count: new lists */
+        for (int64_t k = 0; k < c->nb; k++)
+            psim_free(c->bucket[k].e);
+        psim_free(c->bucket);
+        c->bucket = NULL;
+    }
+    c->nb = nb;
+    if (!c->bucket && !(c->bucket = psim_calloc((size_t)nb * sizeof *c->bucket)))
         return -1;
-    for (int k = 0; k < ECAL_BUCKETS; k++)
+    for (int64_t k = 0; k < nb; k++)
         c->bucket[k].n = 0;
     return 0;
 }
@@ -157,7 +168,7 @@ static int spread_overflow(ecal *c)
     for (size_t i = 0; i < n; i++) {
         eevent ev = c->over.e[i];
         int64_t k = bucket_of(c, ev.t);
-        if (k - c->cur < ECAL_BUCKETS) {
+        if (k - c->cur < c->nb) {
             if (place(c, ev))
                 return -1;
         } else
@@ -184,9 +195,9 @@ static int next_bucket(ecal *c)
             continue;
         }
         c->cur++;
-        if (c->cur % ECAL_BUCKETS == 0 && spread_overflow(c))
+        if ((c->cur & (c->nb - 1)) == 0 && spread_overflow(c))
             return -1;
-        evec *b = &c->bucket[c->cur % ECAL_BUCKETS];
+        evec *b = &c->bucket[c->cur & (c->nb - 1)];
         if (b->n == 0)
             continue;
         c->inbuckets -= b->n;
@@ -225,7 +236,7 @@ void ecal_free(ecal *c)
 {
     psim_free(c->heap.e);
     psim_free(c->over.e);
-    for (int k = 0; c->bucket && k < ECAL_BUCKETS; k++)
+    for (int64_t k = 0; c->bucket && k < c->nb; k++)
         psim_free(c->bucket[k].e);
     psim_free(c->bucket);
     memset(c, 0, sizeof *c);

@@ -1,7 +1,7 @@
 /* The event calendar of the event model, after Paul (J. Comput. Phys.
  * 221, 2007): the events of the current time bucket (width w) in order,
  * later ones appended to the list of their bucket (a window of
- * ECAL_BUCKETS buckets, then an overflow list, spread again when the
+ * nb buckets, then an overflow list, spread again when the
  * window moves on), so that pushing an event costs O(1) and the current
  * bucket is small and in cache.  Paul keeps the current bucket in a binary
  * heap; here it is sorted once when it becomes current (some ten events)
@@ -30,6 +30,8 @@ typedef struct evec {
     size_t n, cap;
 } evec;
 
+/* Buckets in the window: ECAL_BUCKETS, or more for many disks (the
+ * event model: event.c), always a power of two. */
 #define ECAL_BUCKETS 4096
 
 typedef struct ecal {
@@ -41,15 +43,17 @@ typedef struct ecal {
     double t0, w, iw;   /* bucket k holds t with (t - t0) iw in [k, k + 1),
                          * iw = 1 / w */
     int64_t cur;        /* the current bucket */
-    evec *bucket;       /* ECAL_BUCKETS: bucket k at k mod ECAL_BUCKETS */
+    evec *bucket;       /* nb buckets: bucket k at k mod nb */
+    int64_t nb;         /* a power of two */
     size_t inbuckets;   /* events in the buckets */
     evec over;          /* events beyond the window */
     size_t total;       /* events in the calendar */
     int oom;
 } ecal;
 
-/* Empty the calendar; with buckets, of width w from time t0.  -1: no memory. */
-int ecal_reset(ecal *c, int buckets, double t0, double w);
+/* Empty the calendar; with buckets, nb of them (a power of two, at least
+ * ECAL_BUCKETS: 0 for that) of width w from time t0.  -1: no memory. */
+int ecal_reset(ecal *c, int buckets, int64_t nb, double t0, double w);
 void ecal_free(ecal *c);
 /* calendar.c: what the inline calls below do but for their common case */
 int ecal_push_any(ecal *c, eevent ev);
@@ -63,8 +67,8 @@ static inline int ecal_push(ecal *c, eevent ev)
 {
     if (c->buckets) {
         double k = (ev.t - c->t0) * c->iw;
-        if (k >= 0 && k < 9.0e18 && (int64_t)k > c->cur && (int64_t)k - c->cur < ECAL_BUCKETS) {
-            evec *v = &c->bucket[(int64_t)k % ECAL_BUCKETS];
+        if (k >= 0 && k < 9.0e18 && (int64_t)k > c->cur && (int64_t)k - c->cur < c->nb) {
+            evec *v = &c->bucket[(int64_t)k & (c->nb - 1)];
             if (v->n < v->cap) {
                 v->e[v->n++] = ev;
                 c->inbuckets++;

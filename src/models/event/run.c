@@ -115,11 +115,22 @@ static double bucket_width(const emodel *m)
     return vrms > 0 ? EVENT_BUCKET_EVENTS * m->h / ((double)m->n * vrms) : 0;
 }
 
+/* Buckets in the calendar's window: about one for eight disks, so that the
+ * window spans the same time for any number of disks (a bucket is the time
+ * of a few events in the whole box) and the overflow beyond it, spread
+ * again at every turn of the window, stays small; at least ECAL_BUCKETS
+ * (about 1e4 disks and fewer), at most 2^20. */
+static int64_t calendar_buckets(const emodel *m)
+{
+    int64_t want = m->n / 8;
+    return want > ((int64_t)1 << 20) ? (int64_t)1 << 20 : want;
+}
+
 /* A fresh calendar (at the start, and when stale events have piled up):
  * every disk's next events from the disks' states as they are. */
 int event_predict_all(psim_sim *e, emodel *m)
 {
-    if (ecal_reset(&m->cal, m->buckets, m->now, bucket_width(m)))
+    if (ecal_reset(&m->cal, m->buckets, calendar_buckets(m), m->now, bucket_width(m)))
         return -1;
     for (int32_t a = 0; a < m->n; a++)
         if (event_predict_disk(e, m, a))
