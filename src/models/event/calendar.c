@@ -93,24 +93,9 @@ static void run_sort(evec *r)
     }
 }
 
-/* The bucket of time t (clamped to the current one: an event is never
- * earlier than the current bucket but for rounding).  Any function of t
- * that never decreases as t grows keeps the events in order; this one
- * multiplies by 1 / w and truncates (floor for what is not clamped), where
- * a division and floor() (a call without SSE4.1) cost a push more. */
-static int64_t bucket_of(const ecal *c, double t)
-{
-    double k = (t - c->t0) * c->iw;
-    if (!(k >= 0))
-        return c->cur;
-    if (!(k < 9.0e18))
-        return INT64_MAX;
-    return (int64_t)k < c->cur ? c->cur : (int64_t)k;
-}
-
 static int place(ecal *c, eevent ev)
 {
-    int64_t k = bucket_of(c, ev.t);
+    int64_t k = ecal_bucket_of(c, ev.t);
     if (k == c->cur)
         return run_insert(&c->heap, c->first, ev);
     if (k - c->cur < c->nb) {
@@ -167,7 +152,7 @@ static int spread_overflow(ecal *c)
     c->over.n = 0;
     for (size_t i = 0; i < n; i++) {
         eevent ev = c->over.e[i];
-        int64_t k = bucket_of(c, ev.t);
+        int64_t k = ecal_bucket_of(c, ev.t);
         if (k - c->cur < c->nb) {
             if (place(c, ev))
                 return -1;
@@ -186,7 +171,7 @@ static int next_bucket(ecal *c)
         if (c->inbuckets == 0) {   /* only the overflow: jump to its earliest */
             int64_t k = INT64_MAX;
             for (size_t i = 0; i < c->over.n; i++) {
-                int64_t b = bucket_of(c, c->over.e[i].t);
+                int64_t b = ecal_bucket_of(c, c->over.e[i].t);
                 k = b < k ? b : k;
             }
             c->cur = k;

@@ -1,16 +1,17 @@
 /* The event calendar of the event model, after Paul (J. Comput. Phys.
  * 221, 2007): the events of the current time bucket (width w) in order,
- * later ones appended to the list of their bucket (a window of
- * nb buckets, then an overflow list, spread again when the
- * window moves on), so that pushing an event costs O(1) and the current
- * bucket is small and in cache.  Paul keeps the current bucket in a binary
- * heap; here it is sorted once when it becomes current (some ten events)
- * and taken from the front, an event that arrives for it meanwhile (rare:
- * a bucket is the time of a few events in all the box) inserted in place.
- * With buckets off, every event goes to one binary heap (the baseline).  Either way events come out in (time, a, b) order: the
- * results do not depend on the calendar.  Stale events stay in and are
- * dropped when they come up: each event carries its disk's schedule count
- * and its partner's path count (event.h). */
+ * later ones appended to the list of their bucket (a window of nb
+ * buckets, then an overflow list, spread again when the window moves on),
+ * so that pushing an event costs O(1) and the current bucket is small and
+ * in cache.  Paul keeps the current bucket in a binary heap; here it is
+ * sorted once when it becomes current (some ten events) and taken from the
+ * front, an event that arrives for it meanwhile (rare: a bucket is the
+ * time of a few events in all the box) inserted in place.  With buckets
+ * off, every event goes to one binary heap (the baseline).  Either way
+ * events come out in (time, a, b) order: the results do not depend on the
+ * calendar.  Stale events stay in and are dropped when they come up: each
+ * event carries its disk's schedule count and its partner's path count
+ * (event.h). */
 #ifndef PSIM_EVENT_CALENDAR_H
 #define PSIM_EVENT_CALENDAR_H
 #include <stddef.h>
@@ -60,15 +61,30 @@ int ecal_push_any(ecal *c, eevent ev);
 const eevent *ecal_peek_next(ecal *c);
 void ecal_pop_heap(ecal *c);
 
+/* The bucket of time t (clamped to the current one: an event is never
+ * earlier than the current bucket but for rounding).  Any function of t
+ * that never decreases as t grows keeps the events in order; this one
+ * multiplies by 1 / w and truncates (floor for what is not clamped), where
+ * a division and floor() (a call without SSE4.1) cost a push more. */
+static inline int64_t ecal_bucket_of(const ecal *c, double t)
+{
+    double k = (t - c->t0) * c->iw;
+    if (!(k >= 0))
+        return c->cur;
+    if (!(k < 9.0e18))
+        return INT64_MAX;
+    return (int64_t)k < c->cur ? c->cur : (int64_t)k;
+}
+
 /* Add an event (at or after the current bucket); -1 when out of memory.
  * Inline: a later bucket of the window with room in its list (most
- * pushes), the bucket as calendar.c's bucket_of gives it. */
+ * pushes). */
 static inline int ecal_push(ecal *c, eevent ev)
 {
     if (c->buckets) {
-        double k = (ev.t - c->t0) * c->iw;
-        if (k >= 0 && k < 9.0e18 && (int64_t)k > c->cur && (int64_t)k - c->cur < c->nb) {
-            evec *v = &c->bucket[(int64_t)k & (c->nb - 1)];
+        int64_t k = ecal_bucket_of(c, ev.t);
+        if (k > c->cur && k - c->cur < c->nb) {
+            evec *v = &c->bucket[k & (c->nb - 1)];
             if (v->n < v->cap) {
                 v->e[v->n++] = ev;
                 c->inbuckets++;

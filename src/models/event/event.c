@@ -50,16 +50,13 @@ static long first_overlap(const emodel *m, long *jout)
 {
     for (long i = 0; i < m->n; i++) {
         long best = -1;
-        for (int y = m->d[i].cy - 1; y <= m->d[i].cy + 1; y++)
-            for (int x = m->d[i].cx - 1; x <= m->d[i].cx + 1; x++) {
-                if (x < 0 || y < 0 || x >= m->G || y >= m->G)
-                    continue;
-                for (int32_t j = m->head[event_cell(m, x, y)]; j >= 0; j = m->d[j].next) {
-                    double dx = m->d[j].x - m->d[i].x, dy = m->d[j].y - m->d[i].y;
-                    if (j > i && dx * dx + dy * dy < m->sigma2 * (1 - EVENT_TOUCH) &&
-                        (best < 0 || j < best))
-                        best = j;
-                }
+        int32_t c = event_cell(m, m->d[i].cx, m->d[i].cy);
+        for (int k = 0; k < 9; k++)   /* the grid's border: no bounds to check */
+            for (int32_t j = m->head[c + m->around[k]]; j >= 0; j = m->d[j].next) {
+                double dx = m->d[j].x - m->d[i].x, dy = m->d[j].y - m->d[i].y;
+                if (j > i && dx * dx + dy * dy < m->sigma2 * (1 - EVENT_TOUCH) &&
+                    (best < 0 || j < best))
+                    best = j;
             }
         if (best >= 0) {
             *jout = best;
@@ -301,18 +298,15 @@ static int check(psim_sim *e, void *p, const psim_snapshot *before,
                            e->step, i, x, y);
             return -1;
         }
-        for (int cy = m->d[i].cy - 1; cy <= m->d[i].cy + 1; cy++)
-            for (int cx = m->d[i].cx - 1; cx <= m->d[i].cx + 1; cx++) {
-                if (cx < 0 || cy < 0 || cx >= m->G || cy >= m->G)
-                    continue;
-                for (int32_t j = m->head[event_cell(m, cx, cy)]; j >= 0; j = m->d[j].next) {
-                    double dx = after->x[j] - x, dy = after->y[j] - y;
-                    if (j > i && dx * dx + dy * dy < lim) {
-                        psim_error_set(err, "step %ld: disks %ld and %d overlap (centres "
-                                            "%.17g apart, 2r = %g)",
-                                       e->step, i, j, sqrt(dx * dx + dy * dy), 2 * m->r);
-                        return -1;
-                    }
+        int32_t c = event_cell(m, m->d[i].cx, m->d[i].cy);
+        for (int o = 0; o < 9; o++)   /* the grid's border: no bounds to check */
+            for (int32_t j = m->head[c + m->around[o]]; j >= 0; j = m->d[j].next) {
+                double dx = after->x[j] - x, dy = after->y[j] - y;
+                if (j > i && dx * dx + dy * dy < lim) {
+                    psim_error_set(err, "step %ld: disks %ld and %d overlap (centres "
+                                        "%.17g apart, 2r = %g)",
+                                   e->step, i, j, sqrt(dx * dx + dy * dy), 2 * m->r);
+                    return -1;
                 }
             }
     }
