@@ -14,6 +14,13 @@ static inline int psim_wall_collides(double x, double y, double vx, double vy,
            (y - r <= 0 && vy < 0) || (y + r >= L && vy > 0);
 }
 
+/* Within reach of a wall (the position clauses of psim_wall_collides):
+ * only then can a wall collide, whatever the velocity. */
+static inline int psim_wall_reach(double x, double y, double L, double r)
+{
+    return (x - r <= 0) | (x + r >= L) | (y - r <= 0) | (y + r >= L);
+}
+
 static inline void psim_wall_resolve(double x, double y, double *vx,
                                      double *vy, double L, double r)
 {

@@ -74,8 +74,7 @@ static void tile_task(const psim_sim *e, dmodel *m, dtile *t, int first)
             continue;
         }
         if (first && walls)   /* positions are frozen: a wall's reach, once a step */
-            near[i] = (uint8_t)((x[i] - r <= 0) | (x[i] + r >= L) | (y[i] - r <= 0) |
-                                (y[i] + r >= L));
+            near[i] = (uint8_t)psim_wall_reach(x[i], y[i], L, r);
         flag[i] = first ? 0 : (uint8_t)(flag[i] | F_CHANGED);
         wl_push(&w, flag, i);
     }
