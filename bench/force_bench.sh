@@ -42,7 +42,7 @@ while [ $# -gt 0 ]; do
         --weak) weak="$2"; shift 2 ;;
         --plot) plot="$2"; shift 2 ;;
         --skin) skin="$2"; shift 2 ;;
-        -h|--help) sed -n '2,26p' "$0"; exit 0 ;;
+        -h|--help) sed -n '2,25p' "$0"; exit 0 ;;
         -*) echo "unknown option: $1" >&2; exit 2 ;;
         *) build="$1"; shift ;;
     esac
