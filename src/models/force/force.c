@@ -70,8 +70,10 @@ static void destroy(void *p)
             psim_free(t_->pair[b]);
         psim_free(t_->rx), psim_free(t_->ry), psim_free(t_->rj), psim_free(t_->win);
         psim_free(t_->hit), psim_free(t_->rec), psim_free(t_->out), psim_free(t_->slow);
-        psim_free(t_->ax), psim_free(t_->ay), psim_free(t_->cnt);
     }
+    for (int k = 0; k < m->nacc; k++)
+        psim_free(m->acc[k].ax), psim_free(m->acc[k].ay), psim_free(m->acc[k].cnt);
+    free(m->acc);
     free(m->tiles);
     free(m);
 }

@@ -24,6 +24,37 @@
 #include "../../engine/timer.h"
 #include "../../engine/tstats.h"
 
+/* A set of accelerations (force.h) for each of the threads, room for
+ * most particles, all zero. */
+static int plan_acc(fmodel *m, int threads, uint32_t most)
+{
+    if (threads > m->nacc) {
+        facc *a = realloc(m->acc, (size_t)threads * sizeof *a);
+        if (!a)
+            return -1;
+        memset(a + m->nacc, 0, (size_t)(threads - m->nacc) * sizeof *a);
+        m->acc = a;
+        m->nacc = threads;
+    }
+    for (int k = 0; k < m->nacc; k++) {
+        facc *a = &m->acc[k];
+        if (most <= a->cap)
+            continue;
+        size_t cap = most + most / 2 + 16;
+        psim_free(a->ax), psim_free(a->ay), psim_free(a->cnt);
+        a->ax = psim_alloc(cap * sizeof *a->ax);
+        a->ay = psim_alloc(cap * sizeof *a->ay);
+        a->cnt = psim_alloc(cap * sizeof *a->cnt);
+        a->cap = a->ax && a->ay && a->cnt ? cap : 0;
+        if (!a->cap)
+            return -1;
+        memset(a->ax, 0, cap * sizeof *a->ax);
+        memset(a->ay, 0, cap * sizeof *a->ay);
+        memset(a->cnt, 0, cap * sizeof *a->cnt);
+    }
+    return 0;
+}
+
 /* Tiles follow the grid's; their lists are kept from build to build. */
 static int plan_tiles(psim_sim *e, fmodel *m)
 {
@@ -37,27 +68,14 @@ static int plan_tiles(psim_sim *e, fmodel *m)
         m->cap_tiles = g->ntiles;
     }
     m->ntiles = g->ntiles;
+    uint32_t most = 0;
     for (uint32_t t = 0; t < g->ntiles; t++) {
         ftile *ft = &m->tiles[t];
         ft->first = g->cellstart[g->tile_cell0[t]];
         ft->n = g->cellstart[g->tile_cell0[t + 1]] - ft->first;
-        if (ft->n > ft->acap) {
-            size_t cap = ft->n + ft->n / 2 + 16;
-            psim_free(ft->ax), psim_free(ft->ay), psim_free(ft->cnt);
-            ft->ax = psim_alloc(cap * sizeof *ft->ax);
-            ft->ay = psim_alloc(cap * sizeof *ft->ay);
-            ft->cnt = psim_alloc(cap * sizeof *ft->cnt);
-            ft->acap = ft->ax && ft->ay && ft->cnt ? cap : 0;
-            if (!ft->acap)
-                return -1;
-        }
-        if (ft->n) {
-            memset(ft->ax, 0, ft->n * sizeof *ft->ax);
-            memset(ft->ay, 0, ft->n * sizeof *ft->ay);
-            memset(ft->cnt, 0, ft->n * sizeof *ft->cnt);
-        }
+        most = ft->n > most ? ft->n : most;
     }
-    return 0;
+    return plan_acc(m, e->threads, most);
 }
 
 /* The tile's cells and a border of one cell, row-major: where each

@@ -14,6 +14,7 @@
  * Naive: one round of blocks, new positions to the store's scratch arrays
  * (x2, y2) swapped in at the end, as every block reads all positions. */
 #include <math.h>
+#include <omp.h>
 #include <stdlib.h>
 #ifdef __SSE2__
 #include <emmintrin.h>
@@ -136,30 +137,30 @@ static int by_owner_partner(const void *a, const void *b)
 /* Sum the forces on the tile's particles in partner id order, from +0 as
  * the course's loop does; a particle with one or two is summed as they
  * come (+0 + a + b is +0 + b + a), the others after a sort. */
-static int tile_sum(ftile *t)
+static int tile_sum(ftile *t, facc *acc)
 {
     if (psim_reserve((void **)&t->slow, &t->scap, t->nrec, sizeof *t->slow))
         return -1;
     for (size_t r = 0; r < t->nrec; r++)
-        t->cnt[t->rec[r].owner - t->first]++;
+        acc->cnt[t->rec[r].owner - t->first]++;
     size_t ns = 0;
     for (size_t r = 0; r < t->nrec; r++) {
         const frec *f = &t->rec[r];
         uint32_t q = f->owner - t->first;
-        if (t->cnt[q] > 2) {
+        if (acc->cnt[q] > 2) {
             t->slow[ns++] = *f;
             continue;
         }
-        t->ax[q] += f->fx;
-        t->ay[q] += f->fy;
+        acc->ax[q] += f->fx;
+        acc->ay[q] += f->fy;
     }
     if (ns > 1)
         qsort(t->slow, ns, sizeof *t->slow, by_owner_partner);
     t->sorted = ns;
     for (size_t r = 0; r < ns; r++) {
         uint32_t q = t->slow[r].owner - t->first;
-        t->ax[q] += t->slow[r].fx;
-        t->ay[q] += t->slow[r].fy;
+        acc->ax[q] += t->slow[r].fx;
+        acc->ay[q] += t->slow[r].fy;
     }
     return 0;
 }
@@ -172,11 +173,12 @@ static int tile_sum(ftile *t)
  * the reflections (rare: a particle that crossed a wall), in a chunk that
  * has one.  Returns whether one left the box for good. */
 #define MOVE_CHUNK 64
-static int move_chunk(const flaw *law, ftile *t, double *restrict x, double *restrict y,
-                      double *restrict vx, double *restrict vy, uint32_t q0, uint32_t q1)
+static int move_chunk(const flaw *law, ftile *t, const facc *acc, double *restrict x,
+                      double *restrict y, double *restrict vx, double *restrict vy, uint32_t q0,
+                      uint32_t q1)
 {
     const flaw kl = *law, *k = &kl;   /* a copy: no store can change it */
-    const double *restrict ax = t->ax, *restrict ay = t->ay;
+    const double *restrict ax = acc->ax, *restrict ay = acc->ay;
     double m = t->v2max, lo = 0, hi = k->size, u0 = t->u0, u1 = t->u1, w0 = t->w0, w1 = t->w1;
     uint32_t q = q0;
 #ifdef __SSE2__
@@ -232,7 +234,8 @@ static int move_chunk(const flaw *law, ftile *t, double *restrict x, double *res
  * round 1, the only reader of positions, is done). */
 static void tile_integrate(const fmodel *m, psim_store *s, ftile *t)
 {
-    if (tile_sum(t)) {
+    facc *acc = &m->acc[omp_get_thread_num()];
+    if (tile_sum(t, acc)) {
         t->oom = 1;
         return;
     }
@@ -240,12 +243,12 @@ static void tile_integrate(const fmodel *m, psim_store *s, ftile *t)
     double *x = s->x + f, *y = s->y + f, *vx = s->vx + f, *vy = s->vy + f;
     int lost = 0;
     for (uint32_t q = 0; q < t->n; q += MOVE_CHUNK)
-        lost |= move_chunk(&m->law, t, x, y, vx, vy, q,
+        lost |= move_chunk(&m->law, t, acc, x, y, vx, vy, q,
                            t->n - q < MOVE_CHUNK ? t->n : q + MOVE_CHUNK);
     for (size_t r = 0; r < t->nrec; r++) {   /* zero again for the next step */
         uint32_t q = t->rec[r].owner - f;
-        t->ax[q] = t->ay[q] = 0;
-        t->cnt[q] = 0;
+        acc->ax[q] = acc->ay[q] = 0;
+        acc->cnt[q] = 0;
     }
     t->lost = lost;
 }
