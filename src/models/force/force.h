@@ -112,7 +112,7 @@ typedef struct facc {
 typedef struct fmodel {
     flaw law;
     int naive, stats, skip;
-    int simd;               /* list builds with AVX-512 (nlist.c) */
+    int simd;               /* list builds and moves with AVX-512 */
     double skin;            /* list radius = cutoff + skin */
     double room;            /* every unlisted pair was more than cutoff +
                              * room apart at the build (room >= skin) */

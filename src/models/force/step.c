@@ -19,6 +19,10 @@
 #ifdef __SSE2__
 #include <emmintrin.h>
 #endif
+#include "../../engine/cpu.h"
+#if PSIM_AVX512
+#include <immintrin.h>
+#endif
 
 #include "force.h"
 #include "../../engine/mem.h"
@@ -173,14 +177,58 @@ static int tile_sum(ftile *t, facc *acc)
  * the reflections (rare: a particle that crossed a wall), in a chunk that
  * has one.  Returns whether one left the box for good. */
 #define MOVE_CHUNK 64
+#if PSIM_AVX512
+/* The kicks and drifts of move_chunk eight at a time (the same operations
+ * in the same order: the same bits), from q0 while eight are left; the
+ * extents into *m .. *w1.  Returns where it stopped. */
+__attribute__((target("avx512f"))) static uint32_t
+move_avx512(const flaw *k, const double *restrict ax, const double *restrict ay,
+            double *restrict x, double *restrict y, double *restrict vx, double *restrict vy,
+            uint32_t q0, uint32_t q1, double *m, double *lo, double *hi, double *u0, double *u1,
+            double *w0, double *w1)
+{
+    __m512d dt = _mm512_set1_pd(k->dt), mm = _mm512_set1_pd(*m), mlo = _mm512_set1_pd(*lo),
+            mhi = _mm512_set1_pd(*hi), mu0 = _mm512_set1_pd(*u0), mu1 = _mm512_set1_pd(*u1),
+            mw0 = _mm512_set1_pd(*w0), mw1 = _mm512_set1_pd(*w1);
+    uint32_t q = q0;
+    for (; q + 8 <= q1; q += 8) {
+        __m512d ux = _mm512_add_pd(_mm512_loadu_pd(vx + q),
+                                   _mm512_mul_pd(_mm512_loadu_pd(ax + q), dt));
+        __m512d uy = _mm512_add_pd(_mm512_loadu_pd(vy + q),
+                                   _mm512_mul_pd(_mm512_loadu_pd(ay + q), dt));
+        __m512d nx = _mm512_add_pd(_mm512_loadu_pd(x + q), _mm512_mul_pd(ux, dt));
+        __m512d ny = _mm512_add_pd(_mm512_loadu_pd(y + q), _mm512_mul_pd(uy, dt));
+        _mm512_storeu_pd(vx + q, ux), _mm512_storeu_pd(vy + q, uy);
+        _mm512_storeu_pd(x + q, nx), _mm512_storeu_pd(y + q, ny);
+        __m512d v2 = _mm512_add_pd(_mm512_mul_pd(ux, ux), _mm512_mul_pd(uy, uy));
+        mm = _mm512_max_pd(v2, mm);   /* the second operand when the first is NaN */
+        mlo = _mm512_min_pd(_mm512_min_pd(nx, ny), mlo);
+        mhi = _mm512_max_pd(_mm512_max_pd(nx, ny), mhi);
+        mu0 = _mm512_min_pd(ux, mu0), mu1 = _mm512_max_pd(ux, mu1);
+        mw0 = _mm512_min_pd(uy, mw0), mw1 = _mm512_max_pd(uy, mw1);
+    }
+    /* the lanes hold no NaN (it is never the second operand), so any
+     * order of the last reductions gives the same extents */
+    *m = _mm512_reduce_max_pd(mm);
+    *lo = _mm512_reduce_min_pd(mlo), *hi = _mm512_reduce_max_pd(mhi);
+    *u0 = _mm512_reduce_min_pd(mu0), *u1 = _mm512_reduce_max_pd(mu1);
+    *w0 = _mm512_reduce_min_pd(mw0), *w1 = _mm512_reduce_max_pd(mw1);
+    return q;
+}
+#endif
+
 static int move_chunk(const flaw *law, ftile *t, const facc *acc, double *restrict x,
                       double *restrict y, double *restrict vx, double *restrict vy, uint32_t q0,
-                      uint32_t q1)
+                      uint32_t q1, int simd)
 {
     const flaw kl = *law, *k = &kl;   /* a copy: no store can change it */
     const double *restrict ax = acc->ax, *restrict ay = acc->ay;
     double m = t->v2max, lo = 0, hi = k->size, u0 = t->u0, u1 = t->u1, w0 = t->w0, w1 = t->w1;
     uint32_t q = q0;
+#if PSIM_AVX512
+    if (simd)
+        q = move_avx512(k, ax, ay, x, y, vx, vy, q0, q1, &m, &lo, &hi, &u0, &u1, &w0, &w1);
+#endif
 #ifdef __SSE2__
     __m128d dt = _mm_set1_pd(k->dt), mm = _mm_set1_pd(m), mlo = _mm_set1_pd(lo),
             mhi = _mm_set1_pd(hi), mu0 = _mm_set1_pd(u0), mu1 = _mm_set1_pd(u1),
@@ -244,7 +292,7 @@ static void tile_integrate(const fmodel *m, psim_store *s, ftile *t)
     int lost = 0;
     for (uint32_t q = 0; q < t->n; q += MOVE_CHUNK)
         lost |= move_chunk(&m->law, t, acc, x, y, vx, vy, q,
-                           t->n - q < MOVE_CHUNK ? t->n : q + MOVE_CHUNK);
+                           t->n - q < MOVE_CHUNK ? t->n : q + MOVE_CHUNK, m->simd);
     for (size_t r = 0; r < t->nrec; r++) {   /* zero again for the next step */
         uint32_t q = t->rec[r].owner - f;
         acc->ax[q] = acc->ay[q] = 0;
