@@ -59,10 +59,12 @@ typedef struct fpair {
 } fpair;
 
 /* The force of one interacting pair on one of its particles (the owner,
- * a store place); partner: the other's id, the order of the sums. */
+ * a store place); partner: the other's store place (read as its id, the
+ * order of the sums, only where a particle has three or more forces: the
+ * ids are not in the cache). */
 typedef struct frec {
     uint32_t owner;
-    int32_t partner;
+    uint32_t partner;
     double fx, fy;
 } frec;
 

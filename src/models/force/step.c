@@ -76,7 +76,7 @@ static inline void move_one(const flaw *k, psim_store *s, ftile *t, uint32_t i, 
 
 /* The force of one interacting pair on one of its particles, to the
  * owner's tile's records or to the outgoing ones. */
-static inline void push_rec(ftile *t, uint32_t owner, int32_t partner, double fx, double fy)
+static inline void push_rec(ftile *t, uint32_t owner, uint32_t partner, double fx, double fy)
 {
     int local = owner - t->first < t->n;
     frec **a = local ? &t->rec : &t->out;
@@ -95,8 +95,8 @@ static void pair_forces(const fmodel *m, const psim_store *s, ftile *t, fpair p)
     double xi = s->x[p.i], yi = s->y[p.i], xj = s->x[p.j], yj = s->y[p.j];
     double dx = xj - xi, dy = yj - yi;
     double coef = flaw_coef(k, dx * dx + dy * dy);
-    push_rec(t, p.i, s->id[p.j], coef * dx, coef * dy);
-    push_rec(t, p.j, s->id[p.i], coef * (xi - xj), coef * (yi - yj));
+    push_rec(t, p.i, p.j, coef * dx, coef * dy);
+    push_rec(t, p.j, p.i, coef * (xi - xj), coef * (yi - yj));
     t->hits += 2;
     if (m->stats) {
         pair_stats(k, t, xi, yi, xj, yj);
@@ -135,13 +135,14 @@ static int by_owner_partner(const void *a, const void *b)
     const frec *p = a, *q = b;
     if (p->owner != q->owner)
         return p->owner < q->owner ? -1 : 1;
-    return (p->partner > q->partner) - (p->partner < q->partner);
+    int32_t a_ = (int32_t)p->partner, b_ = (int32_t)q->partner;   /* ids, signed */
+    return (a_ > b_) - (a_ < b_);
 }
 
 /* Sum the forces on the tile's particles in partner id order, from +0 as
  * the course's loop does; a particle with one or two is summed as they
  * come (+0 + a + b is +0 + b + a), the others after a sort. */
-static int tile_sum(ftile *t, facc *acc)
+static int tile_sum(const psim_store *s, ftile *t, facc *acc)
 {
     if (psim_reserve((void **)&t->slow, &t->scap, t->nrec, sizeof *t->slow))
         return -1;
@@ -152,7 +153,8 @@ static int tile_sum(ftile *t, facc *acc)
         const frec *f = &t->rec[r];
         uint32_t q = f->owner - t->first;
         if (acc->cnt[q] > 2) {
-            t->slow[ns++] = *f;
+            t->slow[ns] = *f;
+            t->slow[ns++].partner = (uint32_t)s->id[f->partner];
             continue;
         }
         acc->ax[q] += f->fx;
@@ -283,7 +285,7 @@ static int move_chunk(const flaw *law, ftile *t, const facc *acc, double *restri
 static void tile_integrate(const fmodel *m, psim_store *s, ftile *t)
 {
     facc *acc = &m->acc[omp_get_thread_num()];
-    if (tile_sum(t, acc)) {
+    if (tile_sum(s, t, acc)) {
         t->oom = 1;
         return;
     }
