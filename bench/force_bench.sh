@@ -10,7 +10,9 @@
 # usage: bench/force_bench.sh [--runs K] [--steps S] [--sizes "N ..."]
 #                             [--threads "P ..."] [--weak N]
 #                             [--plot PNG] [--skin S] [BUILD_DIR]
-#   --runs K     runs per measurement, the median is reported (default 3)
+#   --runs K     rounds; each round runs every size and thread count once
+#                (sizes below 1e5 several times), interleaved; the median
+#                of each measurement's runs is reported (default 3)
 #   --steps S    steps per run (default 1000, the course's)
 #   --sizes L    particle counts (default "1000 10000 100000 1000000")
 #   --threads L  thread counts (default "1 2"; 1 is added if missing), e.g.
@@ -42,7 +44,7 @@ while [ $# -gt 0 ]; do
         --weak) weak="$2"; shift 2 ;;
         --plot) plot="$2"; shift 2 ;;
         --skin) skin="$2"; shift 2 ;;
-        -h|--help) sed -n '2,25p' "$0"; exit 0 ;;
+        -h|--help) sed -n '2,27p' "$0"; exit 0 ;;
         -*) echo "unknown option: $1" >&2; exit 2 ;;
         *) build="$1"; shift ;;
     esac
@@ -64,14 +66,31 @@ extra=()
 
 . "$(dirname "$0")/lib.sh"   # median
 
-psim_time() {  # n threads -> median time_s
-    local n=$1 threads=$2 ts=() i
-    for ((i = 0; i < runs; i++)); do
-        "$psim" -q --model force -n "$n" --seed 1 --steps "$steps" --threads "$threads" \
-            "${extra[@]}" --stats "$tmp/stats.json"
-        ts+=("$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["time_s"])' "$tmp/stats.json")")
+# one run's time_s, appended to $tmp/t.N.P
+psim_run() {  # n threads
+    "$psim" -q --model force -n "$1" --seed 1 --steps "$steps" --threads "$2" \
+        "${extra[@]}" --stats "$tmp/stats.json"
+    python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["time_s"])' \
+        "$tmp/stats.json" >> "$tmp/t.$1.$2"
+}
+# The runs, interleaved: round by round, every size and thread count in
+# each round (a machine that slows down for a while slows every size
+# alike, so the slope is not bent by it), small sizes repeated within a
+# round (a run of 1e3 particles takes 10 ms) up to about 1e5 particle
+# counts' worth, at most 20 times.
+measure() {  # sizes and thread counts -> $tmp/t.N.P
+    local r n p k reps
+    for ((r = 0; r < runs; r++)); do
+        for n in $1; do
+            reps=$((100000 / n)); ((reps < 1)) && reps=1; ((reps > 20)) && reps=20
+            for p in $2; do
+                for ((k = 0; k < reps; k++)); do psim_run "$n" "$p"; done
+            done
+        done
     done
-    median "${ts[@]}"
+}
+psim_time() {  # n threads -> median time_s of the measured runs
+    median $(cat "$tmp/t.$1.$2")
 }
 
 "$psim" -q -n 1000 -s 1 --steps 100 "${extra[@]}" -o "$tmp/fast.txt"
@@ -91,6 +110,7 @@ print("| n | " + " | ".join(cols) + " | ns per particle-step (1 thread) |")
 print("|---:|" + "---:|" * len(cols) + "---:|")
 PY
 : > "$tmp/points"
+measure "$sizes" "$threads"
 for n in $sizes; do
     line="$n"
     for p in $threads; do line="$line $(psim_time "$n" "$p")"; done
@@ -112,6 +132,9 @@ if [ -n "$weak" ]; then
     echo "| threads | particles | s | efficiency |"
     echo "|---:|---:|---:|---:|"
     tw1=""
+    for ((r = 0; r < runs; r++)); do
+        for p in $threads; do psim_run $((weak * p)) "$p"; done
+    done
     for p in $threads; do
         tw=$(psim_time $((weak * p)) "$p")
         [ -z "$tw1" ] && tw1=$tw
