@@ -6,8 +6,11 @@
 # claims on these noisy machines: "before and after, side by side, in one
 # run".
 #
-# usage: bench/ab.sh [--runs K] PSIM_A PSIM_B [PSIM ...] -- PSIM_ARGS...
+# usage: bench/ab.sh [--runs K] [--no-out] PSIM_A PSIM_B [PSIM ...] -- PSIM_ARGS...
 #   --runs K   rounds (default 7)
+#   --no-out   time the runs without --out (a force run of 1e6 particles
+#              writes 1.5 GB of frames); compare their bytes in one more
+#              round with --out (give --steps few enough for that)
 #   PSIM_*     psim binaries (e.g. an old build and build/psim)
 #   PSIM_ARGS  the run, as psim takes it (a scene, --threads, --model, ...;
 #              -q, --stats and --out are added)
@@ -16,11 +19,13 @@ set -euo pipefail
 . "$(dirname "$0")/lib.sh"   # median
 
 runs=7
+noout=0
 bins=()
 while [ $# -gt 0 ]; do
     case "$1" in
         --runs) runs="$2"; shift 2 ;;
-        -h|--help) sed -n '2,14p' "$0"; exit 0 ;;
+        --no-out) noout=1; shift ;;
+        -h|--help) sed -n '2,17p' "$0"; exit 0 ;;
         --) shift; break ;;
         *) bins+=("$1"); shift ;;
     esac
@@ -46,10 +51,17 @@ EOF
 
 for _ in $(seq "$runs"); do
     for k in "${!bins[@]}"; do
-        "${bins[$k]}" -q --stats "$tmp/s.json" --out "$tmp/out$k" "$@" >/dev/null
+        out=(--out "$tmp/out$k")
+        ((noout)) && out=()
+        "${bins[$k]}" -q --stats "$tmp/s.json" "${out[@]}" "$@" >/dev/null
         stats_line "$tmp/s.json" >>"$tmp/runs$k"
     done
 done
+if ((noout)); then   # the bytes, from one more round with --out
+    for k in "${!bins[@]}"; do
+        "${bins[$k]}" -q --out "$tmp/out$k" "$@" >/dev/null
+    done
+fi
 
 echo "$runs rounds, interleaved; load $(cut -d' ' -f1-3 /proc/loadavg); run: psim $*"
 echo
