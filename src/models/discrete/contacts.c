@@ -125,6 +125,29 @@ half_stencil_of(const psim_grid *g, uint32_t c, int tx, int ty, dlist *in, dlist
 #include <immintrin.h>
 #define AVX512 __attribute__((target("avx512f,avx512vl,popcnt")))
 
+/* Lane tables of the blocks (scan_block_avx512): the k-th pair of two
+ * cells of na and nb disks, i-major, is (blk_i, blk_j)[na][nb][k]; of one
+ * cell's na disks, the pairs i < j, (tri_i, tri_j)[na][k].  Eight bytes
+ * past the last pair are read (zero). */
+#define BLOCK 8
+static uint8_t blk_i[BLOCK + 1][BLOCK + 1][BLOCK * BLOCK + 8];
+static uint8_t blk_j[BLOCK + 1][BLOCK + 1][BLOCK * BLOCK + 8];
+static uint8_t tri_i[BLOCK + 1][BLOCK * (BLOCK - 1) / 2 + 8];
+static uint8_t tri_j[BLOCK + 1][BLOCK * (BLOCK - 1) / 2 + 8];
+
+static void block_init(void)
+{
+    for (int na = 0; na <= BLOCK; na++) {
+        int k = 0;
+        for (int i = 0; i < na; i++)
+            for (int j = i + 1; j < na; j++, k++)
+                tri_i[na][k] = (uint8_t)i, tri_j[na][k] = (uint8_t)j;
+        for (int nb = 0; nb <= BLOCK; nb++)
+            for (int p = 0; p < na * nb; p++)
+                blk_i[na][nb][p] = (uint8_t)(p / nb), blk_j[na][nb][p] = (uint8_t)(p % nb);
+    }
+}
+
 /* scan_cells, the disks of cell cb eight at a time: the same pairs in the
  * same order (the hits of each vector compressed to its front and stored
  * whole at the list's end, with room for eight reserved). */
@@ -169,6 +192,64 @@ scan_cells_avx512(const psim_sim *e, const dmodel *m, uint32_t ca, uint32_t cb, 
     return 0;
 }
 
+/* scan_cells for two cells of at most BLOCK disks each: all the pairs of
+ * the block eight to a vector, in scan_cells' order (i, then j), each
+ * lane's two disks taken from the cells' vectors by the lane tables
+ * (block_init): one pass over the pairs instead of one per disk of ca. */
+AVX512 static inline __attribute__((always_inline)) int
+scan_block_avx512(const psim_sim *e, const dmodel *m, uint32_t ca, uint32_t cb, dlist *to,
+                  int same, __m512d *nearest, const int nearest_wanted)
+{
+    const psim_grid *g = &e->grid;
+    const double *x = e->st.x, *y = e->st.y;
+    uint32_t a0 = g->cellstart[ca], na = g->cellstart[ca + 1] - a0;
+    uint32_t b0 = g->cellstart[cb], nb = g->cellstart[cb + 1] - b0;
+    const uint8_t *li = same ? tri_i[na] : blk_i[na][nb], *lj = same ? tri_j[na] : blk_j[na][nb];
+    uint32_t np = same ? na * (na - 1) / 2 : na * nb;
+    size_t n = to->n;
+    if (n + np + 8 > to->cap &&
+        psim_reserve((void **)&to->c, &to->cap, n + np + 8, sizeof *to->c))
+        return -1;
+    dcontact *out = to->c;
+    const __m512d four_r2 = _mm512_set1_pd(m->four_r2);
+    const __mmask8 ma = (__mmask8)((1u << na) - 1), mb = (__mmask8)((1u << nb) - 1);
+    const __m512d xa = _mm512_maskz_loadu_pd(ma, x + a0), ya = _mm512_maskz_loadu_pd(ma, y + a0);
+    const __m512d xb = _mm512_maskz_loadu_pd(mb, x + b0), yb = _mm512_maskz_loadu_pd(mb, y + b0);
+    const __m512i ia = _mm512_set1_epi64(a0), jb = _mm512_set1_epi64(b0);
+    for (uint32_t p = 0; p < np; p += 8) {
+        __mmask8 lanes = np - p >= 8 ? (__mmask8)0xff : (__mmask8)((1u << (np - p)) - 1);
+        __m512i ii = _mm512_cvtepu8_epi64(_mm_loadl_epi64((const __m128i *)(li + p)));
+        __m512i jj = _mm512_cvtepu8_epi64(_mm_loadl_epi64((const __m128i *)(lj + p)));
+        __m512d dx = _mm512_sub_pd(_mm512_permutexvar_pd(jj, xb), _mm512_permutexvar_pd(ii, xa));
+        __m512d dy = _mm512_sub_pd(_mm512_permutexvar_pd(jj, yb), _mm512_permutexvar_pd(ii, ya));
+        __m512d d2 = _mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy));
+        __mmask8 hit = _mm512_mask_cmp_pd_mask(lanes, d2, four_r2, _CMP_LE_OQ);
+        __m512i pair = _mm512_or_si512(_mm512_slli_epi64(_mm512_add_epi64(jj, jb), 32),
+                                       _mm512_add_epi64(ii, ia));
+        _mm512_storeu_si512(out + n, _mm512_maskz_compress_epi64(hit, pair));
+        n += (size_t)__builtin_popcount(hit);
+        if (nearest_wanted) {   /* NaN: never the nearest */
+            __mmask8 lt = _mm512_mask_cmp_pd_mask(lanes, d2, *nearest, _CMP_LT_OQ);
+            *nearest = _mm512_mask_mov_pd(*nearest, lt, d2);
+        }
+    }
+    to->n = n;
+    return 0;
+}
+
+/* Cell c and cell ck (k-th of the stencil, k == 0 itself): as a block
+ * when both are small enough, else disk by disk. */
+AVX512 static inline __attribute__((always_inline)) int
+scan_pair_avx512(const psim_sim *e, const dmodel *m, uint32_t c, const dstencil *s, int k,
+                 __m512d *nearest, const int nearest_wanted)
+{
+    const uint32_t *cs = e->grid.cellstart;
+    if (cs[c + 1] - cs[c] <= BLOCK && cs[s->cell[k] + 1] - cs[s->cell[k]] <= BLOCK)
+        return scan_block_avx512(e, m, c, s->cell[k], s->to[k], k == 0, nearest,
+                                 nearest_wanted);
+    return scan_cells_avx512(e, m, c, s->cell[k], s->to[k], k == 0, nearest, nearest_wanted);
+}
+
 /* Cell c against its half stencil. */
 AVX512 static int search_cell_avx512(const psim_sim *e, const dmodel *m, uint32_t c,
                                      const dstencil *s, double *d2min, const int nearest_wanted)
@@ -176,9 +257,8 @@ AVX512 static int search_cell_avx512(const psim_sim *e, const dmodel *m, uint32_
     __m512d nearest = _mm512_set1_pd(*d2min);
     int bad = 0;
     for (int k = 0; k < s->n; k++)
-        bad |= nearest_wanted
-                   ? scan_cells_avx512(e, m, c, s->cell[k], s->to[k], k == 0, &nearest, 1)
-                   : scan_cells_avx512(e, m, c, s->cell[k], s->to[k], k == 0, &nearest, 0);
+        bad |= nearest_wanted ? scan_pair_avx512(e, m, c, s, k, &nearest, 1)
+                              : scan_pair_avx512(e, m, c, s, k, &nearest, 0);
     if (nearest_wanted)
         *d2min = _mm512_reduce_min_pd(nearest);
     return bad;
@@ -243,6 +323,16 @@ static void join_chunks(dmodel *m, uint32_t tid)
     if (!bad)
         bad = build_adjacency(t);
     t->oom = (uint8_t)(bad != 0);
+}
+
+void discrete_contacts_init(void)
+{
+#if PSIM_AVX512
+    static int done;
+    if (!done)
+        block_init();
+    done = 1;
+#endif
 }
 
 __attribute__((noinline)) void discrete_find_contacts(psim_sim *e, dmodel *m)
