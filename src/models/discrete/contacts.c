@@ -148,6 +148,22 @@ static void block_init(void)
     }
 }
 
+/* The pairs of `pair` (its lanes in use) within reach, d2 <= 4r^2,
+ * compressed to the front of a vector stored at out + n (room for eight
+ * reserved), and the nearest d2 kept; returns the list's new length. */
+AVX512 static inline __attribute__((always_inline)) size_t
+file_hits(dcontact *out, size_t n, __mmask8 lanes, __m512d d2, __m512d four_r2, __m512i pair,
+          __m512d *nearest, const int nearest_wanted)
+{
+    __mmask8 hit = _mm512_mask_cmp_pd_mask(lanes, d2, four_r2, _CMP_LE_OQ);
+    _mm512_storeu_si512(out + n, _mm512_maskz_compress_epi64(hit, pair));
+    if (nearest_wanted) {   /* NaN: never the nearest */
+        __mmask8 lt = _mm512_mask_cmp_pd_mask(lanes, d2, *nearest, _CMP_LT_OQ);
+        *nearest = _mm512_mask_mov_pd(*nearest, lt, d2);
+    }
+    return n + (size_t)__builtin_popcount(hit);
+}
+
 /* scan_cells, the disks of cell cb eight at a time: the same pairs in the
  * same order (the hits of each vector compressed to its front and stored
  * whole at the list's end, with room for eight reserved). */
@@ -178,14 +194,9 @@ scan_cells_avx512(const psim_sim *e, const dmodel *m, uint32_t ca, uint32_t cb, 
             __m512d dx = _mm512_sub_pd(_mm512_maskz_loadu_pd(lanes, x + j), px);
             __m512d dy = _mm512_sub_pd(_mm512_maskz_loadu_pd(lanes, y + j), py);
             __m512d d2 = _mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy));
-            __mmask8 hit = _mm512_mask_cmp_pd_mask(lanes, d2, four_r2, _CMP_LE_OQ);
             __m512i pj = _mm512_slli_epi64(_mm512_add_epi64(_mm512_set1_epi64(j), lane), 32);
-            _mm512_storeu_si512(out + n, _mm512_maskz_compress_epi64(hit, _mm512_or_si512(pj, pi)));
-            n += (size_t)__builtin_popcount(hit);
-            if (nearest_wanted) {   /* NaN: never the nearest */
-                __mmask8 lt = _mm512_mask_cmp_pd_mask(lanes, d2, *nearest, _CMP_LT_OQ);
-                *nearest = _mm512_mask_mov_pd(*nearest, lt, d2);
-            }
+            n = file_hits(out, n, lanes, d2, four_r2, _mm512_or_si512(pj, pi), nearest,
+                          nearest_wanted);
         }
     }
     to->n = n;
@@ -223,15 +234,9 @@ scan_block_avx512(const psim_sim *e, const dmodel *m, uint32_t ca, uint32_t cb, 
         __m512d dx = _mm512_sub_pd(_mm512_permutexvar_pd(jj, xb), _mm512_permutexvar_pd(ii, xa));
         __m512d dy = _mm512_sub_pd(_mm512_permutexvar_pd(jj, yb), _mm512_permutexvar_pd(ii, ya));
         __m512d d2 = _mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy));
-        __mmask8 hit = _mm512_mask_cmp_pd_mask(lanes, d2, four_r2, _CMP_LE_OQ);
         __m512i pair = _mm512_or_si512(_mm512_slli_epi64(_mm512_add_epi64(jj, jb), 32),
                                        _mm512_add_epi64(ii, ia));
-        _mm512_storeu_si512(out + n, _mm512_maskz_compress_epi64(hit, pair));
-        n += (size_t)__builtin_popcount(hit);
-        if (nearest_wanted) {   /* NaN: never the nearest */
-            __mmask8 lt = _mm512_mask_cmp_pd_mask(lanes, d2, *nearest, _CMP_LT_OQ);
-            *nearest = _mm512_mask_mov_pd(*nearest, lt, d2);
-        }
+        n = file_hits(out, n, lanes, d2, four_r2, pair, nearest, nearest_wanted);
     }
     to->n = n;
     return 0;
