@@ -128,14 +128,15 @@ half_stencil_of(const psim_grid *g, uint32_t c, int tx, int ty, dlist *in, dlist
 /* Lane tables of the blocks (scan_block_avx512): the k-th pair of two
  * cells of na and nb disks, i-major, is (blk_i, blk_j)[na][nb][k]; of one
  * cell's na disks, the pairs i < j, (tri_i, tri_j)[na][k].  Eight bytes
- * past the last pair are read (zero). */
+ * past the last pair are read (zero).  Filled when the program starts,
+ * before any thread. */
 #define BLOCK 8
 static uint8_t blk_i[BLOCK + 1][BLOCK + 1][BLOCK * BLOCK + 8];
 static uint8_t blk_j[BLOCK + 1][BLOCK + 1][BLOCK * BLOCK + 8];
 static uint8_t tri_i[BLOCK + 1][BLOCK * (BLOCK - 1) / 2 + 8];
 static uint8_t tri_j[BLOCK + 1][BLOCK * (BLOCK - 1) / 2 + 8];
 
-static void block_init(void)
+__attribute__((constructor)) static void block_init(void)
 {
     for (int na = 0; na <= BLOCK; na++) {
         int k = 0;
@@ -328,16 +329,6 @@ static void join_chunks(dmodel *m, uint32_t tid)
     if (!bad)
         bad = build_adjacency(t);
     t->oom = (uint8_t)(bad != 0);
-}
-
-void discrete_contacts_init(void)
-{
-#if PSIM_AVX512
-    static int done;
-    if (!done)
-        block_init();
-    done = 1;
-#endif
 }
 
 __attribute__((noinline)) void discrete_find_contacts(psim_sim *e, dmodel *m)

@@ -127,7 +127,6 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
         goto oom;
     m->regrid = psim_engine_option(e, "regrid", 1) != 0;
     m->simd = psim_engine_option(e, "simd", 1) != 0 && psim_have_avx512();
-    discrete_contacts_init();
     /* cells wider than 2r over the region the disks occupy: contacts are
      * in the same or adjacent cells (regrid.c) */
     if (discrete_plan_grid(e, m))

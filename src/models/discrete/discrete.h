@@ -151,8 +151,6 @@ typedef struct dgroup {
 } dgroup;
 
 void discrete_find_contacts(psim_sim *e, dmodel *m);
-/* The search's tables (once, before the first search). */
-void discrete_contacts_init(void);
 /* regrid.c: the grid over the region the disks occupy (at the start), and
  * again when they leave it or gather far inside it.  discrete_regrid runs
  * after the sort: 1 when it planned the grid again (sort again, and size
