@@ -71,8 +71,12 @@ static void destroy(void *p)
         psim_free(t_->rx), psim_free(t_->ry), psim_free(t_->rj), psim_free(t_->win);
         psim_free(t_->hit), psim_free(t_->rec), psim_free(t_->out), psim_free(t_->slow);
     }
-    for (int k = 0; k < m->nacc; k++)
-        psim_free(m->acc[k].ax), psim_free(m->acc[k].ay), psim_free(m->acc[k].cnt);
+    for (int k = 0; m->acc && k < m->acc->n; k++) {
+        facc *a = &m->acc->set[k];
+        psim_free(a->ax), psim_free(a->ay), psim_free(a->cnt);
+    }
+    if (m->acc)
+        free(m->acc->set), free(m->acc->busy), free(m->acc->last);
     free(m->acc);
     free(m->tiles);
     free(m);

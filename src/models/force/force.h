@@ -102,14 +102,24 @@ typedef struct ftile {
 } ftile;
 
 /* The accelerations of the tile being summed and moved, and how many
- * forces each particle has: one set per thread, used by tile after tile
- * (so that they stay in the core's cache; one set per tile, 20 MB at 1e6
- * particles, came from memory), zero between uses. */
+ * forces each particle has: a set for each tile task that may run at
+ * once (min(threads, tiles)), taken from a pool by the task and given
+ * back, a thread taking the set it used last when it is free, so that its
+ * set stays in the core's cache tile after tile (one set per tile, 20 MB
+ * at 1e6 particles, came from memory); zero between uses. */
 typedef struct facc {
     double *ax, *ay;
     uint32_t *cnt;
     size_t cap;
 } facc;
+
+typedef struct fpool {
+    facc *set;
+    int n;
+    uint8_t *busy;          /* n: in use by a task */
+    int *last;              /* per thread: the set it used last (-1: none) */
+    int threads;
+} fpool;
 
 typedef struct fmodel {
     flaw law;
@@ -127,8 +137,7 @@ typedef struct fmodel {
     int built;
     ftile *tiles;
     uint32_t ntiles, cap_tiles;
-    facc *acc;              /* a set per thread */
-    int nacc;
+    fpool *acc;             /* the tasks' sets of accelerations */
     /* --force-stats (the older edition's), over the steps so far */
     double absmin, absavg;
     long nabsavg;

@@ -24,20 +24,37 @@
 #include "../../engine/timer.h"
 #include "../../engine/tstats.h"
 
-/* A set of accelerations (force.h) for each of the threads, room for
- * most particles, all zero. */
-static int plan_acc(fmodel *m, int threads, uint32_t most)
+/* Sets of accelerations (force.h) for `want` tile tasks at once, room for
+ * most particles each, all zero and free. */
+static int plan_acc(fmodel *m, int threads, int want, uint32_t most)
 {
-    if (threads > m->nacc) {
-        facc *a = realloc(m->acc, (size_t)threads * sizeof *a);
+    if (!m->acc && !(m->acc = calloc(1, sizeof *m->acc)))
+        return -1;
+    fpool *p = m->acc;
+    if (threads > p->threads) {
+        int *last = realloc(p->last, (size_t)threads * sizeof *last);
+        if (!last)
+            return -1;
+        p->last = last;
+        p->threads = threads;
+    }
+    for (int k = 0; k < p->threads; k++)
+        p->last[k] = -1;
+    if (want > p->n) {
+        facc *a = realloc(p->set, (size_t)want * sizeof *a);
         if (!a)
             return -1;
-        memset(a + m->nacc, 0, (size_t)(threads - m->nacc) * sizeof *a);
-        m->acc = a;
-        m->nacc = threads;
+        p->set = a;
+        uint8_t *busy = realloc(p->busy, (size_t)want);
+        if (!busy)
+            return -1;
+        p->busy = busy;
+        memset(a + p->n, 0, (size_t)(want - p->n) * sizeof *a);
+        p->n = want;
     }
-    for (int k = 0; k < m->nacc; k++) {
-        facc *a = &m->acc[k];
+    memset(p->busy, 0, (size_t)p->n);
+    for (int k = 0; k < p->n; k++) {
+        facc *a = &p->set[k];
         if (most <= a->cap)
             continue;
         size_t cap = most + most / 2 + 16;
@@ -75,7 +92,8 @@ static int plan_tiles(psim_sim *e, fmodel *m)
         ft->n = g->cellstart[g->tile_cell0[t + 1]] - ft->first;
         most = ft->n > most ? ft->n : most;
     }
-    return plan_acc(m, e->threads, most);
+    uint32_t want = (uint32_t)e->threads < g->ntiles ? (uint32_t)e->threads : g->ntiles;
+    return plan_acc(m, e->threads, want ? (int)want : 1, most);
 }
 
 /* The tile's cells and a border of one cell, row-major: where each

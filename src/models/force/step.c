@@ -280,13 +280,39 @@ static int move_chunk(const flaw *law, ftile *t, const facc *acc, double *restri
     return lost;
 }
 
+/* A free set of accelerations for a tile task (there are as many as
+ * tasks that can run at once), the one this thread used last if it is
+ * free (its cache holds it); and back. */
+static facc *acc_take(fpool *p)
+{
+    int me = omp_get_thread_num(), k;
+#pragma omp critical(psim_force_acc)
+    {
+        k = me < p->threads ? p->last[me] : -1;
+        if (k < 0 || p->busy[k])
+            for (k = 0; p->busy[k]; k++)
+                ;
+        p->busy[k] = 1;
+        if (me < p->threads)
+            p->last[me] = k;
+    }
+    return &p->set[k];
+}
+
+static void acc_give(fpool *p, facc *a)
+{
+#pragma omp critical(psim_force_acc)
+    p->busy[a - p->set] = 0;
+}
+
 /* Round 2: sum and move the tile's particles in place (every tile's
  * round 1, the only reader of positions, is done). */
 static void tile_integrate(const fmodel *m, psim_store *s, ftile *t)
 {
-    facc *acc = &m->acc[omp_get_thread_num()];
+    facc *acc = acc_take(m->acc);
     if (tile_sum(s, t, acc)) {
         t->oom = 1;
+        acc_give(m->acc, acc);
         return;
     }
     uint32_t f = t->first;
@@ -300,6 +326,7 @@ static void tile_integrate(const fmodel *m, psim_store *s, ftile *t)
         acc->ax[q] = acc->ay[q] = 0;
         acc->cnt[q] = 0;
     }
+    acc_give(m->acc, acc);
     t->lost = lost;
 }
 
