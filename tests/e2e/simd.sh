@@ -3,7 +3,8 @@
 # plain path everywhere) against the default (AVX-512 where the CPU has it)
 # for the discrete model's contact search and the force model's list
 # builds, on 1 and 2 threads, on scenes that reach each branch of them:
-# crowded cells (more than one vector of disks, overlapping piles), a
+# crowded cells (more than one vector of disks, overlapping piles),
+# clusters around the eight disks of a block of pairs, a
 # sparse scene whose search measures the nearest pair (free flight), and
 # tiles with borders.  On a CPU without AVX-512 both runs take the plain
 # path and the test says so.
@@ -63,6 +64,23 @@ awk 'BEGIN {srand(34); n = 1200 + 5 * 24 + 2; print n; print 400; print 2; print
 same_both pile "$tmp/pile.in"
 c=$(sed -n 's/^ *"contacts": \([0-9]*\).*/\1/p' "$tmp/pile.plain.json")
 ((c >= 8 * 5 * 24 * 23 / 2)) || fail "the piles should give at least their 1380 pairs a step, gave $c in 8 steps"
+# clusters of 5 to 11 disks, each within a quarter radius: cells of up to
+# and just past the eight disks the search takes as one block of pairs
+# with a neighbour cell's (and with itself), beside one another
+awk 'BEGIN {srand(36); n = 0
+    for (c = 0; c < 300; c++) { k[c] = 5 + c % 7; n += k[c] }
+    print n; print 300; print 2; print 6
+    i = 0
+    for (c = 0; c < 300; c++) {
+        cx = 10 + (c % 20) * 4.3 + rand(); cy = 10 + int(c / 20) * 4.3 + rand()
+        for (d = 0; d < k[c]; d++)
+            printf "%d %.17g %.17g %.17g %.17g\n", i++, cx + 0.5 * rand(), cy + 0.5 * rand(),
+                rand() - 0.5, rand() - 0.5
+    }}' >"$tmp/clusters.in"
+same_both clusters "$tmp/clusters.in"
+c=$(sed -n 's/^ *"contacts": \([0-9]*\).*/\1/p' "$tmp/clusters.plain.json")
+# each cluster's pairs are contacts at the first step at least
+((c >= 300 * 20)) || fail "the clusters should give at least 6000 contacts, gave $c"
 gen "$tmp/sparse.in" --n 2000 --r 1 --density 0.01 --place nonoverlap --vmin -0.02 --vmax 0.02 \
     --steps 40 --seed 33
 # disk 0 near the origin: a vector's unused lanes, read as (0, 0), must not
