@@ -240,6 +240,14 @@ static inline unsigned near_mask(const double *x, const double *y, int n, double
     return m;
 }
 
+/* Room for the slotted pairs of a row of the tile's cells: each cell's
+ * SLOTS particles with 5 SLOTS slots, and the eight pairs the vector path
+ * stores past a shell's cursor. */
+static size_t row_room(const ftile *t)
+{
+    return (size_t)(t->W - 2) * (5 * SLOTS * SLOTS + 8);
+}
+
 /* Room for `more` pairs in every shell. */
 static int reserve_pairs(ftile *t, size_t more)
 {
@@ -284,7 +292,7 @@ static int list_extra(const psim_store *s, ftile *t, int lx, int ly, uint32_t o,
                 double ex = s->x[j] - s->x[o], ey = s->y[j] - s->y[o], r2 = ex * ex + ey * ey;
                 if (!(r2 <= reach2))
                     continue;
-                if (reserve_pairs(t, 1))
+                if (reserve_pairs(t, 1 + row_room(t)))   /* and the rest of the row */
                     return -1;
                 file_pair(t, o, j, r2, thr);
             }
@@ -342,7 +350,7 @@ AVX512 static inline void file_lanes(fpair **wp, __mmask8 hit, __m512d d2, __m25
 
 /* The same pairs as list_slots_sse2, eight slots a vector: the cell and
  * the one to the east in one, the three above in one and a half. */
-AVX512 static void list_slots_avx512(ftile *t, const double *ox, const double *oy,
+AVX512 static inline void list_slots_avx512(ftile *t, const double *ox, const double *oy,
                                      const uint32_t *oj, const double *ux, const double *uy,
                                      const uint32_t *uj, uint32_t first, uint32_t ns,
                                      const double *thr)
@@ -384,15 +392,14 @@ AVX512 static void list_slots_avx512(ftile *t, const double *ox, const double *o
  * the forward half: the later slots of the cell and the cell to the east
  * (2 SLOTS contiguous slots), the three cells above (3 SLOTS), tested
  * without a branch; then its extras. */
-static int list_cell(const psim_store *s, ftile *t, int lx, int ly, const double *thr, int simd)
+static inline __attribute__((always_inline)) int
+list_cell(const psim_store *s, ftile *t, int lx, int ly, const double *thr, int simd)
 {
     const uint32_t *w = t->win + 2 * ((size_t)ly * (size_t)t->W + (size_t)lx);
     uint32_t cnt = w[1] - w[0], ns = cnt < SLOTS ? cnt : SLOTS;
     if (cnt == 0)
         return 0;
-    /* the vector path stores eight pairs past a shell's cursor */
-    if (reserve_pairs(t, (size_t)ns * 5 * SLOTS + 8))
-        return -1;
+    /* room reserved for the row (list_row) */
     size_t own = row_at(t, ly) + (size_t)lx * SLOTS, up = row_at(t, ly + 1) + (size_t)(lx - 1) * SLOTS;
     const double *ox = t->rx + own, *oy = t->ry + own, *ux = t->rx + up, *uy = t->ry + up;
     const uint32_t *oj = t->rj + own, *uj = t->rj + up;
@@ -405,6 +412,33 @@ static int list_cell(const psim_store *s, ftile *t, int lx, int ly, const double
     (void)simd;
     for (uint32_t o = w[0] + SLOTS; o < w[1]; o++)
         if (list_extra(s, t, lx, ly, o, thr))
+            return -1;
+    return 0;
+}
+
+#if PSIM_AVX512
+/* A row of cells, AVX-512: list_cell and its vector kernel inlined in one
+ * function a row (not two calls a cell). */
+AVX512 static int list_row_avx512(const psim_store *s, ftile *t, int ly, const double *thr)
+{
+    for (int lx = 1; lx <= t->W - 2; lx++)
+        if (list_cell(s, t, lx, ly, thr, 1))
+            return -1;
+    return 0;
+}
+#endif
+
+/* Window row ly's cells, room reserved for all of them at once. */
+static int list_row(const psim_store *s, ftile *t, int ly, const double *thr, int simd)
+{
+    if (reserve_pairs(t, row_room(t)))
+        return -1;
+#if PSIM_AVX512
+    if (simd)
+        return list_row_avx512(s, t, ly, thr);
+#endif
+    for (int lx = 1; lx <= t->W - 2; lx++)
+        if (list_cell(s, t, lx, ly, thr, 0))
             return -1;
     return 0;
 }
@@ -425,9 +459,8 @@ static int list_tile(const psim_sim *e, ftile *t, uint32_t tile, const double *t
     fill(&e->st, t, 1, simd);
     for (int ly = 1; ly <= S; ly++) {
         fill(&e->st, t, ly + 1, simd);
-        for (int lx = 1; lx <= S; lx++)
-            if (list_cell(&e->st, t, lx, ly, thr, simd))
-                return -1;
+        if (list_row(&e->st, t, ly, thr, simd))
+            return -1;
     }
     return 0;
 }
