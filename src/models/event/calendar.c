@@ -55,18 +55,26 @@ static int heap_push(evec *h, eevent ev)
     return 0;
 }
 
+/* ev into its place among the ordered e[lo..i), moving the later ones up
+ * (from the end: i is free).  Inlined: a call costs the bucket sort a
+ * quarter more instructions (cachegrind). */
+static inline __attribute__((always_inline)) void
+sink(eevent *e, size_t lo, size_t i, eevent ev)
+{
+    while (i > lo && before(&ev, &e[i - 1])) {
+        e[i] = e[i - 1];
+        i--;
+    }
+    e[i] = ev;
+}
+
 /* The current bucket's run: ev into its place (from the end: most events
  * that arrive are later than those in). */
 static int run_insert(evec *r, size_t first, eevent ev)
 {
     if (vec_push(r, ev))
         return -1;
-    size_t i = r->n - 1;
-    while (i > first && before(&ev, &r->e[i - 1])) {
-        r->e[i] = r->e[i - 1];
-        i--;
-    }
-    r->e[i] = ev;
+    sink(r->e, first, r->n - 1, ev);
     return 0;
 }
 
@@ -82,15 +90,8 @@ static void run_sort(evec *r)
         qsort(r->e, r->n, sizeof *r->e, by_time);
         return;
     }
-    for (size_t k = 1; k < r->n; k++) {
-        eevent ev = r->e[k];
-        size_t i = k;
-        while (i > 0 && before(&ev, &r->e[i - 1])) {
-            r->e[i] = r->e[i - 1];
-            i--;
-        }
-        r->e[i] = ev;
-    }
+    for (size_t k = 1; k < r->n; k++)   /* insertion sort */
+        sink(r->e, 0, k, r->e[k]);
 }
 
 static int place(ecal *c, eevent ev)

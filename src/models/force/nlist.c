@@ -59,15 +59,12 @@ static int plan_acc(fmodel *m, int threads, int want, uint32_t most)
             continue;
         size_t cap = most + most / 2 + 16;
         psim_free(a->ax), psim_free(a->ay), psim_free(a->cnt);
-        a->ax = psim_alloc(cap * sizeof *a->ax);
-        a->ay = psim_alloc(cap * sizeof *a->ay);
-        a->cnt = psim_alloc(cap * sizeof *a->cnt);
+        a->ax = psim_calloc(cap * sizeof *a->ax);
+        a->ay = psim_calloc(cap * sizeof *a->ay);
+        a->cnt = psim_calloc(cap * sizeof *a->cnt);
         a->cap = a->ax && a->ay && a->cnt ? cap : 0;
         if (!a->cap)
             return -1;
-        memset(a->ax, 0, cap * sizeof *a->ax);
-        memset(a->ay, 0, cap * sizeof *a->ay);
-        memset(a->cnt, 0, cap * sizeof *a->cnt);
     }
     return 0;
 }
