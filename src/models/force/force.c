@@ -69,6 +69,7 @@ static void destroy(void *p)
         for (int b = 0; b < FORCE_BUCKETS; b++)
             psim_free(t_->pair[b]);
         psim_free(t_->rx), psim_free(t_->ry), psim_free(t_->rj), psim_free(t_->win);
+        psim_free(t_->stage_pair), psim_free(t_->stage_d2);
         psim_free(t_->hit), psim_free(t_->rec), psim_free(t_->out), psim_free(t_->slow);
     }
     for (int k = 0; m->acc && k < m->acc->n; k++) {

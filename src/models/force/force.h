@@ -78,6 +78,9 @@ typedef struct ftile {
     double *rx, *ry;        /* slot rows of the window rows being listed */
     uint32_t *rj;           /* their places */
     size_t rcap_slots;
+    uint64_t *stage_pair;   /* a row's pairs before they are filed (nlist.c) */
+    double *stage_d2;
+    size_t stage_cap;
     uint32_t *win;          /* the tile's cells and a border: first, end */
     size_t wcap;
     int wx0, wy0, W;        /* the window's first cell and side */

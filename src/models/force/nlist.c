@@ -9,9 +9,9 @@
  * SLOTS particles copied into fixed slots (empty ones far away), so that a
  * particle is tested against its forward half (20 slots) in a fixed,
  * unrolled loop of SSE2 pairs without a branch (on a CPU with AVX-512:
- * three vectors of eight, the hits filed by shell with compress stores;
- * the same lists in another order); the few particles beyond SLOTS in a
- * cell are listed one by one. */
+ * three vectors of eight, the hits of a row compressed into a stage and
+ * filed by shell eight at a time; the same lists in another order); the
+ * few particles beyond SLOTS in a cell are listed one by one. */
 #include <stdlib.h>
 #include <string.h>
 #ifdef __SSE2__
@@ -324,38 +324,65 @@ static void list_slots_sse2(ftile *t, const double *ox, const double *oy, const 
 
 #if PSIM_AVX512
 
-/* File the pairs of particle i with the slots of one vector: shell by
- * shell, the lanes of `hit` in that shell compressed to the front of a
- * vector stored at the shell's cursor (room for eight past it reserved). */
-AVX512 static inline void file_lanes(fpair **wp, __mmask8 hit, __m512d d2, __m256i js,
-                                     uint32_t i, const double *thr)
+/* A row's pairs in the order they are found, with their squared
+ * distances, before they are filed by shell (file_staged): a vector of
+ * slots holds one pair within reach or two, and filing them there (four
+ * masks, compresses and stores) was most of a build's instructions; eight
+ * at a time, it is an eighth of that a pair. */
+typedef struct fstage {
+    uint64_t *pair;
+    double *d2;
+} fstage;
+
+/* Append the lanes of `hit` (pairs (i, js), i in every lane of vi) and
+ * their squared distances d2 to the stage (room for eight past it). */
+AVX512 static inline void stage_lanes(fstage *st, __mmask8 hit, __m512d d2, __m256i js,
+                                      __m512i vi)
 {
-    __m512i pair = _mm512_or_si512(_mm512_slli_epi64(_mm512_cvtepu32_epi64(js), 32),
-                                   _mm512_set1_epi64(i));
-    __mmask8 inner = 0;
-    for (int b = 0; b < FORCE_BUCKETS - 1; b++) {
-        __mmask8 le = _mm512_mask_cmp_pd_mask(hit, d2, _mm512_set1_pd(thr[b]), _CMP_LE_OQ);
-        __mmask8 sh = le & (__mmask8)~inner;
-        _mm512_storeu_si512(wp[b], _mm512_maskz_compress_epi64(sh, pair));
-        wp[b] += __builtin_popcount(sh);
-        inner = le;
-    }
-    __mmask8 sh = hit & (__mmask8)~inner;
-    _mm512_storeu_si512(wp[FORCE_BUCKETS - 1], _mm512_maskz_compress_epi64(sh, pair));
-    wp[FORCE_BUCKETS - 1] += __builtin_popcount(sh);
+    __m512i pair = _mm512_or_si512(_mm512_slli_epi64(_mm512_cvtepu32_epi64(js), 32), vi);
+    _mm512_storeu_si512(st->pair, _mm512_maskz_compress_epi64(hit, pair));
+    _mm512_storeu_pd(st->d2, _mm512_maskz_compress_pd(hit, d2));
+    st->pair += __builtin_popcount(hit);
+    st->d2 += __builtin_popcount(hit);
 }
 
-/* The same pairs as list_slots_sse2, eight slots a vector: the cell and
- * the one to the east in one, the three above in one and a half. */
-AVX512 static inline void list_slots_avx512(ftile *t, const double *ox, const double *oy,
-                                     const uint32_t *oj, const double *ux, const double *uy,
-                                     const uint32_t *uj, uint32_t first, uint32_t ns,
-                                     const double *thr)
+/* File the n staged pairs in their shells, eight at a time: the lanes of
+ * each shell compressed to the front of a vector stored at the shell's
+ * cursor (room for eight past it reserved). */
+AVX512 static void file_staged(ftile *t, const uint64_t *pair, const double *d2, size_t n,
+                               const double *thr)
 {
     fpair *wp[FORCE_BUCKETS];
     for (int b = 0; b < FORCE_BUCKETS; b++)
         wp[b] = t->pair[b] + t->len[b];
-    const __m512d vr = _mm512_set1_pd(thr[FORCE_BUCKETS - 1]);
+    for (size_t q = 0; q < n; q += 8) {
+        __mmask8 k = n - q >= 8 ? 0xff : (__mmask8)((1u << (n - q)) - 1);
+        __m512i p = _mm512_maskz_loadu_epi64(k, pair + q);
+        __m512d d = _mm512_maskz_loadu_pd(k, d2 + q);
+        __mmask8 inner = 0;
+        for (int b = 0; b < FORCE_BUCKETS; b++) {
+            __mmask8 le = b < FORCE_BUCKETS - 1
+                              ? _mm512_mask_cmp_pd_mask(k, d, _mm512_set1_pd(thr[b]), _CMP_LE_OQ)
+                              : k;
+            __mmask8 sh = le & (__mmask8)~inner;
+            _mm512_storeu_si512(wp[b], _mm512_maskz_compress_epi64(sh, p));
+            wp[b] += __builtin_popcount(sh);
+            inner = le;
+        }
+    }
+    for (int b = 0; b < FORCE_BUCKETS; b++)
+        t->len[b] = (size_t)(wp[b] - t->pair[b]);
+}
+
+/* The same pairs as list_slots_sse2, eight slots a vector (the cell and
+ * the one to the east in one, the three above in one and a half), to the
+ * stage. */
+AVX512 static inline void list_slots_avx512(fstage *st, const double *ox, const double *oy,
+                                            const uint32_t *oj, const double *ux,
+                                            const double *uy, const uint32_t *uj,
+                                            uint32_t first, uint32_t ns, double reach2)
+{
+    const __m512d vr = _mm512_set1_pd(reach2);
     const __m512d ax = _mm512_loadu_pd(ox), ay = _mm512_loadu_pd(oy);
     const __m512d bx = _mm512_loadu_pd(ux), by = _mm512_loadu_pd(uy);
     const __m512d cx = _mm512_maskz_loadu_pd(0x0f, ux + 8), cy = _mm512_maskz_loadu_pd(0x0f, uy + 8);
@@ -364,24 +391,18 @@ AVX512 static inline void list_slots_avx512(ftile *t, const double *ox, const do
     const __m256i cj = _mm256_maskz_loadu_epi32(0x0f, uj + 8);
     for (uint32_t k = 0; k < ns; k++) {
         __m512d px = _mm512_set1_pd(ox[k]), py = _mm512_set1_pd(oy[k]);
+        __m512i vi = _mm512_set1_epi64(first + k);
         __m512d dx = _mm512_sub_pd(ax, px), dy = _mm512_sub_pd(ay, py);
         __m512d da = _mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy));
         dx = _mm512_sub_pd(bx, px), dy = _mm512_sub_pd(by, py);
         __m512d db = _mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy));
         dx = _mm512_sub_pd(cx, px), dy = _mm512_sub_pd(cy, py);
         __m512d dc = _mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy));
-        __mmask8 ha = _mm512_cmp_pd_mask(da, vr, _CMP_LE_OQ) & (__mmask8)~((2u << k) - 1);
-        __mmask8 hb = _mm512_cmp_pd_mask(db, vr, _CMP_LE_OQ);
-        __mmask8 hc = _mm512_mask_cmp_pd_mask(0x0f, dc, vr, _CMP_LE_OQ);
-        if (ha)
-            file_lanes(wp, ha, da, aj, first + k, thr);
-        if (hb)
-            file_lanes(wp, hb, db, bj, first + k, thr);
-        if (hc)
-            file_lanes(wp, hc, dc, cj, first + k, thr);
+        stage_lanes(st, _mm512_cmp_pd_mask(da, vr, _CMP_LE_OQ) & (__mmask8)~((2u << k) - 1), da,
+                    aj, vi);
+        stage_lanes(st, _mm512_cmp_pd_mask(db, vr, _CMP_LE_OQ), db, bj, vi);
+        stage_lanes(st, _mm512_mask_cmp_pd_mask(0x0f, dc, vr, _CMP_LE_OQ), dc, cj, vi);
     }
-    for (int b = 0; b < FORCE_BUCKETS; b++)
-        t->len[b] = (size_t)(wp[b] - t->pair[b]);
 }
 #endif
 
@@ -390,7 +411,7 @@ AVX512 static inline void list_slots_avx512(ftile *t, const double *ox, const do
  * (2 SLOTS contiguous slots), the three cells above (3 SLOTS), tested
  * without a branch; then its extras. */
 static inline __attribute__((always_inline)) int
-list_cell(const psim_store *s, ftile *t, int lx, int ly, const double *thr, int simd)
+list_cell(const psim_store *s, ftile *t, int lx, int ly, const double *thr, void *stage)
 {
     const uint32_t *w = t->win + 2 * ((size_t)ly * (size_t)t->W + (size_t)lx);
     uint32_t cnt = w[1] - w[0], ns = cnt < SLOTS ? cnt : SLOTS;
@@ -401,12 +422,11 @@ list_cell(const psim_store *s, ftile *t, int lx, int ly, const double *thr, int 
     const double *ox = t->rx + own, *oy = t->ry + own, *ux = t->rx + up, *uy = t->ry + up;
     const uint32_t *oj = t->rj + own, *uj = t->rj + up;
 #if PSIM_AVX512
-    if (simd)
-        list_slots_avx512(t, ox, oy, oj, ux, uy, uj, w[0], ns, thr);
+    if (stage)
+        list_slots_avx512(stage, ox, oy, oj, ux, uy, uj, w[0], ns, thr[FORCE_BUCKETS - 1]);
     else
 #endif
         list_slots_sse2(t, ox, oy, oj, ux, uy, uj, w[0], ns, thr);
-    (void)simd;
     for (uint32_t o = w[0] + SLOTS; o < w[1]; o++)
         if (list_extra(s, t, lx, ly, o, thr))
             return -1;
@@ -418,9 +438,15 @@ list_cell(const psim_store *s, ftile *t, int lx, int ly, const double *thr, int 
  * function a row (not two calls a cell). */
 AVX512 static int list_row_avx512(const psim_store *s, ftile *t, int ly, const double *thr)
 {
+    size_t room = row_room(t), c2 = t->stage_cap;
+    if (psim_reserve((void **)&t->stage_d2, &c2, room, sizeof *t->stage_d2) ||
+        psim_reserve((void **)&t->stage_pair, &t->stage_cap, room, sizeof *t->stage_pair))
+        return -1;
+    fstage st = {t->stage_pair, t->stage_d2};
     for (int lx = 1; lx <= t->W - 2; lx++)
-        if (list_cell(s, t, lx, ly, thr, 1))
+        if (list_cell(s, t, lx, ly, thr, &st))
             return -1;
+    file_staged(t, t->stage_pair, t->stage_d2, (size_t)(st.pair - t->stage_pair), thr);
     return 0;
 }
 #endif
@@ -435,7 +461,7 @@ static int list_row(const psim_store *s, ftile *t, int ly, const double *thr, in
         return list_row_avx512(s, t, ly, thr);
 #endif
     for (int lx = 1; lx <= t->W - 2; lx++)
-        if (list_cell(s, t, lx, ly, thr, 0))
+        if (list_cell(s, t, lx, ly, thr, NULL))
             return -1;
     return 0;
 }
