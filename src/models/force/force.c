@@ -287,7 +287,7 @@ const psim_model psim_model_force = {
                 {"skin", "neighbour list skin, in cutoffs (default 2)", 0, 1e6},
                 {"naive", "1: the course's O(n^2) loops (for tests)", 0, 1},
                 {"stats", "1: the older edition's absmin/absavg (--force-stats)", 0, 1},
-                {"simd", "0: list builds and moves without AVX-512 even where the CPU has it (same results)", 0, 1},
+                {"simd", "0: list builds, pair tests and moves without AVX-512 even where the CPU has it (same results)", 0, 1},
                 PSIM_SKIP_OPTION,
                 {NULL, NULL, 0, 0}},
     .skips = {[FS_MOVE] = {"move", "at rest: no force, no speed"},

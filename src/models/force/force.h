@@ -127,7 +127,7 @@ typedef struct fpool {
 typedef struct fmodel {
     flaw law;
     int naive, stats, skip;
-    int simd;               /* list builds and moves with AVX-512 */
+    int simd;               /* list builds, pair tests and moves with AVX-512 */
     double skin;            /* list radius = cutoff + skin */
     double room;            /* every unlisted pair was more than cutoff +
                              * room apart at the build (room >= skin) */

@@ -104,6 +104,45 @@ static void pair_forces(const fmodel *m, const psim_store *s, ftile *t, fpair p)
     }
 }
 
+/* Pairs p[from..len) within the cutoff (not farther: NaN interacts, as
+ * in the course): their places in p appended to hit[nh..]; the new nh. */
+static size_t test_pairs(const double *x, const double *y, const fpair *p, size_t from,
+                         size_t len, double c2, uint32_t *hit, size_t nh)
+{
+    for (size_t q = from; q < len; q++) {
+        double dx = x[p[q].j] - x[p[q].i], dy = y[p[q].j] - y[p[q].i];
+        hit[nh] = (uint32_t)q;
+        nh += !(dx * dx + dy * dy > c2);
+    }
+    return nh;
+}
+
+#if PSIM_AVX512
+/* test_pairs eight pairs a vector, the positions gathered (the same
+ * arithmetic: the same hits), the hits' places compressed to hit (room
+ * for eight past them). */
+__attribute__((target("avx512f,avx512vl,popcnt"))) static size_t
+test_pairs_avx512(const double *x, const double *y, const fpair *p, size_t len, double c2,
+                  uint32_t *hit)
+{
+    size_t nh = 0, q = 0;
+    const __m512d vc = _mm512_set1_pd(c2);
+    const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    for (; q + 8 <= len; q += 8) {
+        __m512i pr = _mm512_loadu_si512(p + q);
+        __m256i vi = _mm512_cvtepi64_epi32(pr), vj = _mm512_cvtepi64_epi32(_mm512_srli_epi64(pr, 32));
+        __m512d dx = _mm512_sub_pd(_mm512_i32gather_pd(vj, x, 8), _mm512_i32gather_pd(vi, x, 8));
+        __m512d dy = _mm512_sub_pd(_mm512_i32gather_pd(vj, y, 8), _mm512_i32gather_pd(vi, y, 8));
+        __m512d d2 = _mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy));
+        __mmask8 in = _mm512_cmp_pd_mask(d2, vc, _CMP_NGT_UQ);   /* NaN too */
+        __m256i at = _mm256_add_epi32(lane, _mm256_set1_epi32((int)q));
+        _mm256_storeu_si256((__m256i *)(hit + nh), _mm256_maskz_compress_epi32(in, at));
+        nh += (size_t)__builtin_popcount(in);
+    }
+    return test_pairs(x, y, p, q, len, c2, hit, nh);
+}
+#endif
+
 /* Round 1: the tile's pairs in the shells that may hold pairs within the
  * cutoff (m->shells). */
 static void tile_force(const fmodel *m, psim_store *s, ftile *t)
@@ -114,16 +153,17 @@ static void tile_force(const fmodel *m, psim_store *s, ftile *t)
     t->nrec = t->nout = 0;
     for (int b = 0; b < nb; b++) {
         const fpair *p = t->pair[b];
-        size_t len = t->len[b], nh = 0;
-        if (psim_reserve((void **)&t->hit, &t->hcap, len, sizeof *t->hit)) {
+        size_t len = t->len[b], nh;
+        if (psim_reserve((void **)&t->hit, &t->hcap, len + 8, sizeof *t->hit)) {
             t->oom = 1;
             return;
         }
-        for (size_t q = 0; q < len; q++) {
-            double dx = x[p[q].j] - x[p[q].i], dy = y[p[q].j] - y[p[q].i];
-            t->hit[nh] = (uint32_t)q;
-            nh += !(dx * dx + dy * dy > c2);   /* NaN interacts, as in the course */
-        }
+#if PSIM_AVX512
+        if (m->simd)
+            nh = test_pairs_avx512(x, y, p, len, c2, t->hit);
+        else
+#endif
+            nh = test_pairs(x, y, p, 0, len, c2, t->hit, 0);
         t->tests += len;
         for (size_t h = 0; h < nh; h++)
             pair_forces(m, s, t, p[t->hit[h]]);
