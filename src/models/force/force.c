@@ -68,7 +68,7 @@ static void destroy(void *p)
         ftile *t_ = &m->tiles[t];
         for (int b = 0; b < FORCE_BUCKETS; b++)
             psim_free(t_->pair[b]);
-        psim_free(t_->rx), psim_free(t_->ry), psim_free(t_->rj), psim_free(t_->win);
+        psim_free(t_->rx), psim_free(t_->ry), psim_free(t_->rj), psim_free(t_->win), psim_free(t_->fx);
         psim_free(t_->stage_pair), psim_free(t_->stage_d2);
         psim_free(t_->hit), psim_free(t_->rec), psim_free(t_->out), psim_free(t_->slow);
     }
@@ -79,6 +79,7 @@ static void destroy(void *p)
     if (m->acc)
         free(m->acc->set), free(m->acc->busy), free(m->acc->last);
     free(m->acc);
+    free(m->sweep);
     free(m->tiles);
     free(m);
 }

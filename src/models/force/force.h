@@ -73,6 +73,8 @@ typedef struct frec {
  * neighbouring tile). */
 typedef struct ftile {
     uint32_t first, n;
+    int32_t src[5];         /* the tiles whose lists reach this one's
+                             * particles: W, E, S, SW, SE (-1: none) */
     fpair *pair[FORCE_BUCKETS];
     size_t len[FORCE_BUCKETS], cap[FORCE_BUCKETS];
     double *rx, *ry;        /* slot rows of the window rows being listed */
@@ -82,6 +84,9 @@ typedef struct ftile {
     double *stage_d2;
     size_t stage_cap;
     uint32_t *win;          /* the tile's cells and a border: first, end */
+    uint8_t *fx;            /* window cells whose forward half has extras,
+                             * then whose cell has */
+    size_t fxcap;
     size_t wcap;
     int wx0, wy0, W;        /* the window's first cell and side */
     uint32_t *hit;          /* this step: pairs within the cutoff */
@@ -99,6 +104,7 @@ typedef struct ftile {
     uint64_t tests, hits, sorted;
     double dmin, dsum;      /* --force-stats: nearest distance / cutoff, sum */
     uint64_t dn;
+    double tf, ti;          /* this step: seconds in its force, its integrate */
     int lost;               /* a particle left the box for good */
     int oom;
     int crowded;            /* the build passed FORCE_LIST_BUDGET */
@@ -140,6 +146,8 @@ typedef struct fmodel {
     int built;
     ftile *tiles;
     uint32_t ntiles, cap_tiles;
+    uint32_t *sweep;        /* the tiles row by row of the tile grid */
+    int sweep_row;          /* tiles a row */
     fpool *acc;             /* the tasks' sets of accelerations */
     /* --force-stats (the older edition's), over the steps so far */
     double absmin, absavg;

@@ -69,6 +69,26 @@ static int plan_acc(fmodel *m, int threads, int want, uint32_t most)
     return 0;
 }
 
+/* The step's order of the tiles (step.c): row by row of the tile grid,
+ * and each tile's sources, the tiles whose forward stencils (east, north-
+ * west, north, north-east) reach its cells: west, east, south, south-west,
+ * south-east. */
+static void plan_sweep(const psim_grid *g, fmodel *m)
+{
+    static const int off[5][2] = {{-1, 0}, {1, 0}, {0, -1}, {-1, -1}, {1, -1}};
+    m->sweep_row = g->TG;
+    for (int ty = 0; ty < g->TG; ty++)
+        for (int tx = 0; tx < g->TG; tx++) {
+            uint32_t t = g->tile_of_xy[ty * g->TG + tx];
+            m->sweep[ty * g->TG + tx] = t;
+            for (int k = 0; k < 5; k++) {
+                int x = tx + off[k][0], y = ty + off[k][1];
+                m->tiles[t].src[k] = x < 0 || y < 0 || x >= g->TG || y >= g->TG
+                                         ? -1 : (int32_t)g->tile_of_xy[y * g->TG + x];
+            }
+        }
+}
+
 /* Tiles follow the grid's; their lists are kept from build to build. */
 static int plan_tiles(psim_sim *e, fmodel *m)
 {
@@ -79,8 +99,13 @@ static int plan_tiles(psim_sim *e, fmodel *m)
             return -1;
         memset(t + m->cap_tiles, 0, (g->ntiles - m->cap_tiles) * sizeof *t);
         m->tiles = t;
+        uint32_t *sw = realloc(m->sweep, g->ntiles * sizeof *sw);
+        if (!sw)
+            return -1;
+        m->sweep = sw;
         m->cap_tiles = g->ntiles;
     }
+    plan_sweep(g, m);
     m->ntiles = g->ntiles;
     uint32_t most = 0;
     for (uint32_t t = 0; t < g->ntiles; t++) {
@@ -91,6 +116,32 @@ static int plan_tiles(psim_sim *e, fmodel *m)
     }
     uint32_t want = (uint32_t)e->threads < g->ntiles ? (uint32_t)e->threads : g->ntiles;
     return plan_acc(m, e->threads, want ? (int)want : 1, most);
+}
+
+/* Particles per cell in the slot rows; a cell's further particles (its
+ * "extras", a few per cent of the particles at the course's density) are
+ * listed one by one (list_extras). */
+#define SLOTS 4
+/* A window cell's own cell and its forward half (east, north-west,
+ * north, north-east). */
+static const int fwd_cells[5][2] = {{0, 0}, {1, 0}, {-1, 1}, {0, 1}, {1, 1}};
+
+/* Which window cells (of the tile, not its border) have extras in their
+ * own cell or forward half: only those need list_extras.  Two passes of
+ * bytes the compiler vectorises (a cell's five lookups in list_cell were
+ * a seventh of a build). */
+static void plan_extras(ftile *t)
+{
+    const size_t W = (size_t)t->W, N = W * W;
+    uint8_t *ex = t->fx + N, *fx = t->fx;
+    for (size_t c = 0; c < N; c++)
+        ex[c] = t->win[2 * c + 1] - t->win[2 * c] > SLOTS;
+    for (size_t ly = 1; ly + 1 < W; ly++) {
+        const uint8_t *o = ex + ly * W, *u = ex + (ly + 1) * W;
+        uint8_t *f = fx + ly * W;
+        for (size_t lx = 1; lx + 1 < W; lx++)
+            f[lx] = o[lx] | o[lx + 1] | u[lx - 1] | u[lx] | u[lx + 1];
+    }
 }
 
 /* The tile's cells and a border of one cell, row-major: where each
@@ -104,7 +155,8 @@ static int plan_window(const psim_sim *e, ftile *t, uint32_t tile)
     t->wx0 = g->tile_x[tile] * S - 1;
     t->wy0 = g->tile_y[tile] * S - 1;
     t->W = W;
-    if (psim_reserve((void **)&t->win, &t->wcap, 2 * (size_t)W * (size_t)W, sizeof *t->win))
+    if (psim_reserve((void **)&t->fx, &t->fxcap, 2 * (size_t)W * (size_t)W, 1) ||
+        psim_reserve((void **)&t->win, &t->wcap, 2 * (size_t)W * (size_t)W, sizeof *t->win))
         return -1;
     for (int ly = 0; ly < W; ly++)
         for (int lx = 0; lx < W; lx++) {
@@ -118,13 +170,10 @@ static int plan_window(const psim_sim *e, ftile *t, uint32_t tile)
             w[0] = g->cellstart[rank];
             w[1] = g->cellstart[rank + 1];
         }
+    plan_extras(t);
     return 0;
 }
 
-/* Particles per cell in the slot rows; a cell's further particles (its
- * "extras", a few per cent of the particles at the course's density) are
- * listed one by one (list_extra). */
-#define SLOTS 4
 _Static_assert(FORCE_BUCKETS == 4, "list_cell files pairs by three thresholds");
 /* Position of an empty slot: farther than any reach from any particle. */
 #define FAR 1e300
@@ -271,21 +320,25 @@ static inline void file_pair(ftile *t, uint32_t i, uint32_t j, double r2, const 
     t->pair[b][t->len[b]++] = (fpair){i, j};
 }
 
-/* The pairs of extra particle o of window cell (lx, ly): with every
- * slotted particle of the 3 x 3 cells (no slotted particle sees o), and
- * with the extras of the forward half (those after o in its own cell). */
-static int list_extra(const psim_store *s, ftile *t, int lx, int ly, uint32_t o,
-                      const double *thr)
+/* A cell's pairs beyond its slots, with the particles beyond SLOTS in a
+ * cell (its "extras", a few per cent of the particles at the course's
+ * density), listed one by one: each slotted particle of the cell with
+ * the extras of the cell and of its forward half; each extra with the
+ * later extras of the cell and every particle of the forward half.  So
+ * every pair is listed by the cell of the one whose cell sees the other's
+ * in its forward half, as the slotted pairs are (step.c relies on it: a
+ * tile's pairs reach only its own and its forward tiles). */
+static int list_extras(const psim_store *s, ftile *t, int lx, int ly, const double *thr)
 {
     const double reach2 = thr[FORCE_BUCKETS - 1];
-    for (int dy = -1; dy <= 1; dy++)
-        for (int dx = -1; dx <= 1; dx++) {
-            const uint32_t *w = t->win + 2 * ((size_t)(ly + dy) * (size_t)t->W + (size_t)(lx + dx));
-            int fwd = dy > 0 || (dy == 0 && dx > 0);
-            for (uint32_t j = w[0]; j < w[1]; j++) {
-                int extra = j - w[0] >= SLOTS;
-                if (extra && !(fwd || (dx == 0 && dy == 0 && j > o)))
-                    continue;
+    const uint32_t *own = t->win + 2 * ((size_t)ly * (size_t)t->W + (size_t)lx);
+    for (int f = 0; f < 5; f++) {
+        const uint32_t *w =
+            t->win + 2 * ((size_t)(ly + fwd_cells[f][1]) * (size_t)t->W + (size_t)(lx + fwd_cells[f][0]));
+        for (uint32_t o = own[0]; o < own[1]; o++) {
+            /* a slotted o: the cell's extras; an extra o: all of it, after o in its own cell */
+            uint32_t j0 = o - own[0] < SLOTS ? w[0] + SLOTS : f == 0 ? o + 1 : w[0];
+            for (uint32_t j = j0; j < w[1]; j++) {
                 double ex = s->x[j] - s->x[o], ey = s->y[j] - s->y[o], r2 = ex * ex + ey * ey;
                 if (!(r2 <= reach2))
                     continue;
@@ -294,6 +347,7 @@ static int list_extra(const psim_store *s, ftile *t, int lx, int ly, uint32_t o,
                 file_pair(t, o, j, r2, thr);
             }
         }
+    }
     return 0;
 }
 
@@ -427,10 +481,7 @@ list_cell(const psim_store *s, ftile *t, int lx, int ly, const double *thr, void
     else
 #endif
         list_slots_sse2(t, ox, oy, oj, ux, uy, uj, w[0], ns, thr);
-    for (uint32_t o = w[0] + SLOTS; o < w[1]; o++)
-        if (list_extra(s, t, lx, ly, o, thr))
-            return -1;
-    return 0;
+    return t->fx[(size_t)ly * (size_t)t->W + (size_t)lx] ? list_extras(s, t, lx, ly, thr) : 0;
 }
 
 #if PSIM_AVX512
