@@ -6,11 +6,17 @@
 # claims on these noisy machines: "before and after, side by side, in one
 # run".
 #
-# usage: bench/ab.sh [--runs K] [--no-out] PSIM_A PSIM_B [PSIM ...] -- PSIM_ARGS...
-#   --runs K   rounds (default 7)
-#   --no-out   time the runs without --out (a force run of 1e6 particles
-#              writes 1.5 GB of frames); compare their bytes in one more
-#              round with --out (give --steps few enough for that)
+# usage: bench/ab.sh [--runs K] [--no-out] [--together] PSIM_A PSIM_B [PSIM ...] -- PSIM_ARGS...
+#   --runs K     rounds (default 7)
+#   --no-out     time the runs without --out (a force run of 1e6 particles
+#                writes 1.5 GB of frames); compare their bytes in one more
+#                round with --out (give --steps few enough for that)
+#   --together   two builds at once, each pinned to a CPU of its own (the
+#                CPUs swapped every round), for one-thread runs: a slow
+#                spell of the machine then slows both alike, and each
+#                round gives a ratio B / A for the time and every phase,
+#                whose median is printed (they share the memory bus, so
+#                the times themselves are a loaded machine's)
 #   PSIM_*     psim binaries (e.g. an old build and build/psim)
 #   PSIM_ARGS  the run, as psim takes it (a scene, --threads, --model, ...;
 #              -q, --stats and --out are added)
@@ -20,12 +26,14 @@ set -euo pipefail
 
 runs=7
 noout=0
+together=0
 bins=()
 while [ $# -gt 0 ]; do
     case "$1" in
         --runs) runs="$2"; shift 2 ;;
         --no-out) noout=1; shift ;;
-        -h|--help) sed -n '2,17p' "$0"; exit 0 ;;
+        --together) together=1; shift ;;
+        -h|--help) sed -n '2,23p' "$0"; exit 0 ;;
         --) shift; break ;;
         *) bins+=("$1"); shift ;;
     esac
@@ -37,6 +45,10 @@ fi
 for b in "${bins[@]}"; do
     [ -x "$b" ] || { echo "bench/ab.sh: $b is not an executable" >&2; exit 2; }
 done
+if ((together)) && { [ ${#bins[@]} -ne 2 ] || [ "$(nproc)" -lt 2 ]; }; then
+    echo "bench/ab.sh: --together runs two builds, on a machine of two CPUs or more" >&2
+    exit 2
+fi
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
@@ -49,7 +61,17 @@ print(j["time_s"], " ".join(f"{k}={v}" for k, v in j["phases_s"].items() if v > 
 EOF
 }
 
-for _ in $(seq "$runs"); do
+for r in $(seq "$runs"); do
+    if ((together)); then
+        out0=(--out "$tmp/out0") out1=(--out "$tmp/out1")
+        ((noout)) && out0=() out1=()
+        taskset -c $((r % 2)) "${bins[0]}" -q --stats "$tmp/s0.json" "${out0[@]}" "$@" >/dev/null &
+        taskset -c $(((r + 1) % 2)) "${bins[1]}" -q --stats "$tmp/s1.json" "${out1[@]}" "$@" >/dev/null
+        wait $! || exit 1
+        stats_line "$tmp/s0.json" >>"$tmp/runs0"
+        stats_line "$tmp/s1.json" >>"$tmp/runs1"
+        continue
+    fi
     for k in "${!bins[@]}"; do
         out=(--out "$tmp/out$k")
         ((noout)) && out=()
@@ -63,7 +85,9 @@ if ((noout)); then   # the bytes, from one more round with --out
     done
 fi
 
-echo "$runs rounds, interleaved; load $(cut -d' ' -f1-3 /proc/loadavg); run: psim $*"
+how=interleaved
+((together)) && how="two at once, on CPUs 0 and 1 in turn"
+echo "$runs rounds, $how; load $(cut -d' ' -f1-3 /proc/loadavg); run: psim $*"
 echo
 echo "| build | time_s, median (min-max) | phases, medians |"
 echo "|---|---:|---|"
@@ -77,6 +101,22 @@ for k in "${!bins[@]}"; do
     done
     printf '| %s | %.4f (%.4f-%.4f) | %s|\n' "${bins[$k]}" "$(median <<<"$t")" "$lo" "$hi" "$phases"
 done
+if ((together)); then   # the ratios of the rounds, phase by phase
+    echo
+    python3 - "$tmp/runs0" "$tmp/runs1" "${bins[1]}" "${bins[0]}" <<'EOF'
+import statistics, sys
+def rows(f):
+    out = []
+    for line in open(f):
+        w = line.split()
+        out.append({"time_s": float(w[0]), **{k: float(v) for k, v in (x.split("=") for x in w[1:])}})
+    return out
+a, b = rows(sys.argv[1]), rows(sys.argv[2])
+keys = [k for k in a[0] if all(k in r and k in s and r[k] > 0 for r, s in zip(a, b))]
+print(f"{sys.argv[3]} / {sys.argv[4]}, median of the rounds' ratios: " +
+      " ".join(f"{k} {statistics.median(s[k] / r[k] for r, s in zip(a, b)):.3f}" for k in keys))
+EOF
+fi
 echo
 for k in "${!bins[@]}"; do
     ((k == 0)) && continue
