@@ -173,6 +173,26 @@ force tile1.naive -n 3000 --seed 5 --steps 60 --naive
 same_file "$tmp/tile1.1.out" "$tmp/tile1.naive.out" "tiles of one cell vs --naive"
 same_file "$tmp/tile1.1.out" "$tmp/tile1.2.out" "tiles of one cell: 1 vs 2 threads"
 same_file "$tmp/tile1.1.out" "$tmp/tile1.3.out" "tiles of one cell: 1 vs 3 threads"
+# One fast particle among slow ones, tiles of one and of two cells: the
+# lists' drift and shells are bounded tile by tile (a tile's own fastest
+# particle), so the slow tiles keep fewer shells and the fast one's
+# neighbours must still see it coming.
+gen "$tmp/fast1.in" --n 1500 --r 1 --density 0.3 --steps 80 --vmin -0.02 --vmax 0.02 --place lattice --seed 9
+"$PY" - "$tmp/fast1.in" <<'PYEOF'
+import sys
+f = sys.argv[1]
+lines = open(f).read().split("\n")
+w = lines[4].split()   # the first disk: across the box, fast
+lines[4] = " ".join([w[0], w[1], w[2], "1.7", "0.9"])
+open(f, "w").write("\n".join(lines))
+PYEOF
+for tile in 1 2; do
+    run_ok "$PSIM" -q --model force -O dt=0.5 --tile "$tile" --check --stats "$tmp/fast1.$tile.json" \
+        -o "$tmp/fast1.$tile.out" "$tmp/fast1.in"
+done
+run_ok "$PSIM" -q --model force -O dt=0.5 --naive -o "$tmp/fast1.naive.out" "$tmp/fast1.in"
+same_file "$tmp/fast1.1.out" "$tmp/fast1.naive.out" "a fast particle, tiles of one cell: vs --naive"
+same_file "$tmp/fast1.2.out" "$tmp/fast1.naive.out" "a fast particle, tiles of two cells: vs --naive"
 # A crowded scene (cutoff 4 around disks 2 apart): nearly every particle
 # has three or more forces a step, summed after a sort by partner id.
 gen "$tmp/crowd.in" --n 600 --r 1 --density 0.5 --steps 60 --vmin -0.1 --vmax 0.1 --place lattice --seed 5

@@ -111,14 +111,15 @@ oom:
     return NULL;
 }
 
-/* Whether some pair within the cutoff may be missing from the lists: each
- * particle may have moved drift (plus a few ulps of the box a step) since
- * the build, so pairs closer than the cutoff were within cutoff + room
- * then (room: the skin, or more where the nearest unlisted pair was
- * measured, nlist.c) unless 2 drift > room. */
+/* Whether some pair within the cutoff may be missing from the lists: two
+ * particles in adjacent cells may have closed in by `closing` (step.c:
+ * twice the drift bound, or the sum of their tiles' drifts) since the
+ * build, so pairs closer than the cutoff were within cutoff + room then
+ * (room: the skin, or more where the nearest unlisted pair was measured,
+ * nlist.c) unless closing > room. */
 static int lists_stale(const fmodel *m)
 {
-    return !m->built || 2 * force_drift_bound(m) > m->room;
+    return !m->built || m->closing > m->room;
 }
 
 static int interact(psim_sim *e, void *p, psim_error *err)
@@ -131,7 +132,7 @@ static int interact(psim_sim *e, void *p, psim_error *err)
     }
     /* kept past the skin: a rebuild that the skin alone would have made */
     e->stats.skipped[FS_LISTS] += !m->naive && m->built && !lists_stale(m) &&
-                                  2 * force_drift_bound(m) > m->skin;
+                                  m->closing > m->skin;
     if (!m->naive && lists_stale(m) && (rc = force_build_lists(e, m)) != 0) {
         if (rc == -2)
             psim_error_set(err, "step %ld: the particles are too crowded for neighbour lists "

@@ -75,6 +75,10 @@ typedef struct ftile {
     uint32_t first, n;
     int32_t src[5];         /* the tiles whose lists reach this one's
                              * particles: W, E, S, SW, SE (-1: none) */
+    int32_t fwd[5];         /* the tiles its lists reach: W, E, NW, N, NE */
+    double drift;           /* the sum over the steps since the build of
+                             * its largest speed times dt */
+    int shells;             /* this step: the shells to test */
     fpair *pair[FORCE_BUCKETS];
     size_t len[FORCE_BUCKETS], cap[FORCE_BUCKETS];
     double *rx, *ry;        /* slot rows of the window rows being listed */
@@ -142,7 +146,9 @@ typedef struct fmodel {
                              * displacement since the build */
     int quiet;              /* steps in a row with no force, speed or wall */
     long since_build;       /* steps since the build */
-    int shells;             /* this step: the shells to test */
+    double closing;         /* how far any two particles of adjacent cells
+                             * may have closed in since the build: 2 drift
+                             * bounds, or less from the tiles' own speeds */
     int built;
     ftile *tiles;
     uint32_t ntiles, cap_tiles;

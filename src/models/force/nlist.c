@@ -76,6 +76,7 @@ static int plan_acc(fmodel *m, int threads, int want, uint32_t most)
 static void plan_sweep(const psim_grid *g, fmodel *m)
 {
     static const int off[5][2] = {{-1, 0}, {1, 0}, {0, -1}, {-1, -1}, {1, -1}};
+    static const int fwd[5][2] = {{-1, 0}, {1, 0}, {-1, 1}, {0, 1}, {1, 1}};
     m->sweep_row = g->TG;
     for (int ty = 0; ty < g->TG; ty++)
         for (int tx = 0; tx < g->TG; tx++) {
@@ -84,6 +85,9 @@ static void plan_sweep(const psim_grid *g, fmodel *m)
             for (int k = 0; k < 5; k++) {
                 int x = tx + off[k][0], y = ty + off[k][1];
                 m->tiles[t].src[k] = x < 0 || y < 0 || x >= g->TG || y >= g->TG
+                                         ? -1 : (int32_t)g->tile_of_xy[y * g->TG + x];
+                x = tx + fwd[k][0], y = ty + fwd[k][1];
+                m->tiles[t].fwd[k] = x < 0 || y < 0 || x >= g->TG || y >= g->TG
                                          ? -1 : (int32_t)g->tile_of_xy[y * g->TG + x];
             }
         }
@@ -611,6 +615,9 @@ int force_build_lists(psim_sim *e, fmodel *m)
     e->stats.phase_s[FPHASE_NLIST] += psim_now() - t0;
     m->drift = 0;
     m->since_build = 0;
+    for (uint32_t t = 0; t < m->ntiles; t++)
+        m->tiles[t].drift = 0;
+    m->closing = 2 * force_drift_bound(m);
     m->built = 1;
     return crowded ? -2 : oom ? -1 : 0;
 }

@@ -148,10 +148,10 @@ test_pairs_avx512(const double *x, const double *y, const fpair *p, size_t len, 
 #endif
 
 /* Round 1: the tile's pairs in the shells that may hold pairs within the
- * cutoff (m->shells). */
+ * cutoff (t->shells). */
 static void tile_force(const fmodel *m, psim_store *s, ftile *t)
 {
-    const int nb = m->shells;
+    const int nb = t->shells;
     const double *x = s->x, *y = s->y, c2 = m->law.cutoff2;
     tile_reset(t);
     t->nrec = t->nout = 0;
@@ -467,15 +467,47 @@ static int finish(psim_sim *e, fmodel *m)
 }
 
 /* How many shells may hold pairs within the cutoff: shell b's pairs
- * were more than cutoff + b skin / B apart at the build, each particle
- * has moved at most the drift bound since. */
-static int active_shells(const fmodel *m)
+ * were more than cutoff + b skin / B apart at the build, and have closed
+ * in by at most `closing` since. */
+static int active_shells(const fmodel *m, double closing)
 {
-    double reach = 2 * force_drift_bound(m), width = m->skin / FORCE_BUCKETS;
+    double width = m->skin / FORCE_BUCKETS;
     int nb = 1;
-    while (nb < FORCE_BUCKETS && nb * width <= reach)
+    while (nb < FORCE_BUCKETS && nb * width <= closing)
         nb++;
     return nb;
+}
+
+/* Tile t's particles and those of the tiles in nb[0..5) (-1: none): how
+ * far two of them may have closed in since the build, from the tiles'
+ * drifts (each particle of a tile moved at most its tile's drift, plus
+ * the same few ulps a step as force_drift_bound), at most 2 drift
+ * bounds. */
+static double tiles_closing(const fmodel *m, uint32_t t, const int32_t *nb)
+{
+    double most = m->tiles[t].drift, ulps = force_drift_bound(m) - m->drift;
+    for (int k = 0; k < 5; k++)
+        if (nb[k] >= 0 && m->tiles[nb[k]].drift > most)
+            most = m->tiles[nb[k]].drift;
+    double c = m->tiles[t].drift + most + 2 * ulps, all = 2 * force_drift_bound(m);
+    return c < all ? c : all;
+}
+
+/* After a step: each tile's drift, and the closing of any two particles
+ * in adjacent cells (adjacent cells are in the same or adjacent tiles:
+ * every adjacent pair of tiles is a tile and one of its sources).  The
+ * tiles' speeds tell more than the box's fastest particle: it makes the
+ * sum of two tiles' drifts only once. */
+static void tiles_drift(fmodel *m)
+{
+    double closing = 0;
+    for (uint32_t t = 0; t < m->ntiles; t++)
+        m->tiles[t].drift += sqrt(m->tiles[t].v2max) * m->law.dt;
+    for (uint32_t t = 0; t < m->ntiles; t++) {
+        double c = tiles_closing(m, t, m->tiles[t].src);
+        closing = c > closing ? c : closing;
+    }
+    m->closing = closing;
 }
 
 typedef void (*tile_fn)(const fmodel *m, psim_store *s, ftile *t);
@@ -563,7 +595,8 @@ int force_step_lists(psim_sim *e, fmodel *m)
 {
     psim_store *s = &e->st;
     psim_thread_stats *ts = e->tstats;
-    m->shells = active_shells(m);
+    for (uint32_t t = 0; t < m->ntiles; t++)
+        m->tiles[t].shells = active_shells(m, tiles_closing(m, t, m->tiles[t].fwd));
     double t0 = psim_now();
     /* one thread, or one tile: the same calls in order */
     const int graph = e->threads > 1 && m->ntiles > 1;
@@ -579,7 +612,9 @@ int force_step_lists(psim_sim *e, fmodel *m)
     e->stats.phase_s[FPHASE_FORCE] += wall * share;
     e->stats.phase_s[FPHASE_INTEGRATE] += wall * (1 - share);
     e->stats.counter[FC_TASKS] += graph ? 2 * m->ntiles : 0;
-    return finish(e, m);
+    int rc = finish(e, m);
+    tiles_drift(m);
+    return rc;
 }
 
 /* The course's loops, new positions to the scratch arrays, swapped in. */
