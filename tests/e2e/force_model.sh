@@ -193,6 +193,27 @@ done
 run_ok "$PSIM" -q --model force -O dt=0.5 --naive -o "$tmp/fast1.naive.out" "$tmp/fast1.in"
 same_file "$tmp/fast1.1.out" "$tmp/fast1.naive.out" "a fast particle, tiles of one cell: vs --naive"
 same_file "$tmp/fast1.2.out" "$tmp/fast1.naive.out" "a fast particle, tiles of two cells: vs --naive"
+# Two fast particles flying at each other along a gap between rows of slow
+# ones, tiles of one cell: each is far from the other's tile at every
+# build, and must still be seen in time.
+gen "$tmp/fast2.in" --n 1500 --r 1 --density 0.1 --steps 40 --vmin -0.01 --vmax 0.01 --place lattice --seed 9
+"$PY" - "$tmp/fast2.in" <<'PYEOF'
+import sys
+f = sys.argv[1]
+lines = open(f).read().split("\n")
+L = float(lines[1])
+ys = sorted(set(round(float(l.split()[2]), 6) for l in lines[4:] if l.strip()))
+y = (ys[len(ys) // 2] + ys[len(ys) // 2 + 1]) / 2   # between two rows
+a, b = lines[4].split(), lines[5].split()
+lines[4] = " ".join([a[0], repr(L / 2 - 13.0), repr(y), "2.6", "0"])
+lines[5] = " ".join([b[0], repr(L / 2 + 13.0), repr(y), "-2.6", "0"])
+open(f, "w").write("\n".join(lines))
+PYEOF
+run_ok "$PSIM" -q --model force -O dt=0.5 --tile 1 --stats "$tmp/fast2.json" -o "$tmp/fast2.out" "$tmp/fast2.in"
+run_ok "$PSIM" -q --model force -O dt=0.5 --naive -o "$tmp/fast2.naive.out" "$tmp/fast2.in"
+same_file "$tmp/fast2.out" "$tmp/fast2.naive.out" "two fast particles meeting, tiles of one cell: vs --naive"
+"$PY" -c "import json,sys; d=json.load(open(sys.argv[1])); assert d['interactions'] > 0, d" "$tmp/fast2.json" ||
+    fail "two fast particles: they never met"
 # A crowded scene (cutoff 4 around disks 2 apart): nearly every particle
 # has three or more forces a step, summed after a sort by partner id.
 gen "$tmp/crowd.in" --n 600 --r 1 --density 0.5 --steps 60 --vmin -0.1 --vmax 0.1 --place lattice --seed 5

@@ -112,11 +112,10 @@ oom:
 }
 
 /* Whether some pair within the cutoff may be missing from the lists: two
- * particles in adjacent cells may have closed in by `closing` (step.c:
- * twice the drift bound, or the sum of their tiles' drifts) since the
- * build, so pairs closer than the cutoff were within cutoff + room then
- * (room: the skin, or more where the nearest unlisted pair was measured,
- * nlist.c) unless closing > room. */
+ * particles may have closed in by `closing` (step.c) since the build, so
+ * pairs closer than the cutoff were within cutoff + room then (room: the
+ * skin, or more where the nearest unlisted pair was measured, nlist.c)
+ * unless closing > room. */
 static int lists_stale(const fmodel *m)
 {
     return !m->built || m->closing > m->room;

@@ -146,9 +146,9 @@ typedef struct fmodel {
                              * displacement since the build */
     int quiet;              /* steps in a row with no force, speed or wall */
     long since_build;       /* steps since the build */
-    double closing;         /* how far any two particles of adjacent cells
-                             * may have closed in since the build: 2 drift
-                             * bounds, or less from the tiles' own speeds */
+    double closing;         /* how far any two particles may have closed
+                             * in since the build: 2 drift bounds, or twice
+                             * the largest tile drift if less (step.c) */
     int built;
     ftile *tiles;
     uint32_t ntiles, cap_tiles;
