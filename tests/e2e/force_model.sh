@@ -173,42 +173,37 @@ force tile1.naive -n 3000 --seed 5 --steps 60 --naive
 same_file "$tmp/tile1.1.out" "$tmp/tile1.naive.out" "tiles of one cell vs --naive"
 same_file "$tmp/tile1.1.out" "$tmp/tile1.2.out" "tiles of one cell: 1 vs 2 threads"
 same_file "$tmp/tile1.1.out" "$tmp/tile1.3.out" "tiles of one cell: 1 vs 3 threads"
-# One fast particle among slow ones, tiles of one and of two cells: the
-# lists' drift and shells are bounded tile by tile (a tile's own fastest
-# particle), so the slow tiles keep fewer shells and the fast one's
-# neighbours must still see it coming.
+# Fast particles among slow ones: the lists' drift and shells are bounded
+# tile by tile (a tile's own fastest particle), so slow tiles test fewer
+# shells, and fast particles must still be seen coming.  fast1: one fast
+# particle, tiles of one and of two cells; fast2: two flying at each other
+# along a gap between rows of slow ones, tiles of one cell (each far from
+# the other's tile at every build).
 gen "$tmp/fast1.in" --n 1500 --r 1 --density 0.3 --steps 80 --vmin -0.02 --vmax 0.02 --place lattice --seed 9
-"$PY" - "$tmp/fast1.in" <<'PYEOF'
+gen "$tmp/fast2.in" --n 1500 --r 1 --density 0.1 --steps 40 --vmin -0.01 --vmax 0.01 --place lattice --seed 9
+"$PY" - "$tmp/fast1.in" "$tmp/fast2.in" <<'PYEOF'
 import sys
-f = sys.argv[1]
-lines = open(f).read().split("\n")
-w = lines[4].split()   # the first disk: across the box, fast
-lines[4] = " ".join([w[0], w[1], w[2], "1.7", "0.9"])
-open(f, "w").write("\n".join(lines))
+def edit(f, disks):
+    lines = open(f).read().split("\n")
+    for k, fields in disks(lines).items():   # lines[4]: the first disk
+        old = lines[4 + k].split()
+        lines[4 + k] = " ".join([old[0]] + [repr(v) if v is not None else o
+                                            for v, o in zip(fields, old[1:])])
+    open(f, "w").write("\n".join(lines))
+def gap(lines):   # halfway between two rows of the lattice, across the box
+    L = float(lines[1])
+    ys = sorted(set(round(float(l.split()[2]), 6) for l in lines[4:] if l.strip()))
+    y = (ys[len(ys) // 2] + ys[len(ys) // 2 + 1]) / 2
+    return {0: (L / 2 - 13.0, y, 2.6, 0.0), 1: (L / 2 + 13.0, y, -2.6, 0.0)}
+edit(sys.argv[1], lambda lines: {0: (None, None, 1.7, 0.9)})
+edit(sys.argv[2], gap)
 PYEOF
 for tile in 1 2; do
-    run_ok "$PSIM" -q --model force -O dt=0.5 --tile "$tile" --check --stats "$tmp/fast1.$tile.json" \
-        -o "$tmp/fast1.$tile.out" "$tmp/fast1.in"
+    run_ok "$PSIM" -q --model force -O dt=0.5 --tile "$tile" --check -o "$tmp/fast1.$tile.out" "$tmp/fast1.in"
 done
 run_ok "$PSIM" -q --model force -O dt=0.5 --naive -o "$tmp/fast1.naive.out" "$tmp/fast1.in"
 same_file "$tmp/fast1.1.out" "$tmp/fast1.naive.out" "a fast particle, tiles of one cell: vs --naive"
 same_file "$tmp/fast1.2.out" "$tmp/fast1.naive.out" "a fast particle, tiles of two cells: vs --naive"
-# Two fast particles flying at each other along a gap between rows of slow
-# ones, tiles of one cell: each is far from the other's tile at every
-# build, and must still be seen in time.
-gen "$tmp/fast2.in" --n 1500 --r 1 --density 0.1 --steps 40 --vmin -0.01 --vmax 0.01 --place lattice --seed 9
-"$PY" - "$tmp/fast2.in" <<'PYEOF'
-import sys
-f = sys.argv[1]
-lines = open(f).read().split("\n")
-L = float(lines[1])
-ys = sorted(set(round(float(l.split()[2]), 6) for l in lines[4:] if l.strip()))
-y = (ys[len(ys) // 2] + ys[len(ys) // 2 + 1]) / 2   # between two rows
-a, b = lines[4].split(), lines[5].split()
-lines[4] = " ".join([a[0], repr(L / 2 - 13.0), repr(y), "2.6", "0"])
-lines[5] = " ".join([b[0], repr(L / 2 + 13.0), repr(y), "-2.6", "0"])
-open(f, "w").write("\n".join(lines))
-PYEOF
 run_ok "$PSIM" -q --model force -O dt=0.5 --tile 1 --stats "$tmp/fast2.json" -o "$tmp/fast2.out" "$tmp/fast2.in"
 run_ok "$PSIM" -q --model force -O dt=0.5 --naive -o "$tmp/fast2.naive.out" "$tmp/fast2.in"
 same_file "$tmp/fast2.out" "$tmp/fast2.naive.out" "two fast particles meeting, tiles of one cell: vs --naive"

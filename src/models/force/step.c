@@ -512,7 +512,8 @@ static void tiles_drift(fmodel *m)
 
 typedef void (*tile_fn)(const fmodel *m, psim_store *s, ftile *t);
 
-/* Tile ft's task running fn, timed as phase (src/engine/task.h). */
+/* Tile ft's task running fn, timed as phase (its seconds kept in the
+ * tile: tf for the force, ti for the rest) (src/engine/task.h). */
 PSIM_TASK_SPAWN static void task_spawn_tile(const fmodel *m, psim_store *s, psim_thread_stats *ts,
                                             tile_fn fn, int phase, int graph, ftile *ft)
 {
@@ -520,7 +521,9 @@ PSIM_TASK_SPAWN static void task_spawn_tile(const fmodel *m, psim_store *s, psim
     {
         double b0 = psim_now();
         fn(m, s, ft);
-        psim_tstat_add(ts, phase, psim_now() - b0, 1, ft->n);
+        double dt = psim_now() - b0;
+        *(phase == FPHASE_FORCE ? &ft->tf : &ft->ti) = dt;
+        psim_tstat_add(ts, phase, dt, 1, ft->n);
     }
 }
 
@@ -532,34 +535,6 @@ static void run_tiles(const fmodel *m, psim_store *s, psim_thread_stats *ts, til
     for (uint32_t t = 0; t < m->ntiles; t++)
         task_spawn_tile(m, s, ts, fn, phase, graph, &m->tiles[t]);
 #pragma omp taskwait
-}
-
-/* Tile t's force task. */
-PSIM_TASK_SPAWN static void task_spawn_force(const fmodel *m, psim_store *s, psim_thread_stats *ts,
-                                             int graph, uint32_t t)
-{
-    ftile *ft = &m->tiles[t];
-#pragma omp task firstprivate(ft, m, s, ts) default(none) if (graph)
-    {
-        double b0 = psim_now();
-        tile_force(m, s, ft);
-        ft->tf = psim_now() - b0;
-        psim_tstat_add(ts, FPHASE_FORCE, ft->tf, 1, ft->n);
-    }
-}
-
-/* Tile t's integrate task (the force tasks of t and its sources done). */
-PSIM_TASK_SPAWN static void task_spawn_integrate(const fmodel *m, psim_store *s,
-                                                 psim_thread_stats *ts, int graph, uint32_t t)
-{
-    ftile *ft = &m->tiles[t];
-#pragma omp task firstprivate(ft, m, s, ts) default(none) if (graph)
-    {
-        double b0 = psim_now();
-        tile_integrate(m, s, ft);
-        ft->ti = psim_now() - b0;
-        psim_tstat_add(ts, FPHASE_INTEGRATE, ft->ti, 1, ft->n);
-    }
 }
 
 /* The step's tasks.  One thread: a sweep row by row of the tile grid,
@@ -575,19 +550,21 @@ static void run_step(const fmodel *m, psim_store *s, psim_thread_stats *ts, int 
     const uint32_t row = (uint32_t)m->sweep_row;
     if (graph) {
         for (uint32_t k = 0; k < m->ntiles; k++)
-            task_spawn_force(m, s, ts, graph, k);
+            task_spawn_tile(m, s, ts, tile_force, FPHASE_FORCE, graph, &m->tiles[k]);
 #pragma omp taskwait
         for (uint32_t k = 0; k < m->ntiles; k++)
-            task_spawn_integrate(m, s, ts, graph, k);
+            task_spawn_tile(m, s, ts, tile_integrate, FPHASE_INTEGRATE, graph, &m->tiles[k]);
 #pragma omp taskwait
         return;
     }
     for (uint32_t k = 0; k < m->ntiles; k++) {
-        task_spawn_force(m, s, ts, graph, m->sweep[k]);
+        task_spawn_tile(m, s, ts, tile_force, FPHASE_FORCE, graph, &m->tiles[m->sweep[k]]);
         if (k % row > 0)
-            task_spawn_integrate(m, s, ts, graph, m->sweep[k - 1]);
+            task_spawn_tile(m, s, ts, tile_integrate, FPHASE_INTEGRATE, graph,
+                            &m->tiles[m->sweep[k - 1]]);
         if (k % row == row - 1)
-            task_spawn_integrate(m, s, ts, graph, m->sweep[k]);
+            task_spawn_tile(m, s, ts, tile_integrate, FPHASE_INTEGRATE, graph,
+                            &m->tiles[m->sweep[k]]);
     }
 }
 
