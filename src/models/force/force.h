@@ -109,6 +109,9 @@ typedef struct ftile {
     double dmin, dsum;      /* --force-stats: nearest distance / cutoff, sum */
     uint64_t dn;
     double tf, ti;          /* this step: seconds in its force, its integrate */
+    uint32_t *fast;         /* its fast particles (m->v2fast) since the build */
+    double *fastd;          /* their paths: a bound on each one's displacement */
+    size_t nfast, fastcap;
     int lost;               /* a particle left the box for good */
     int oom;
     int crowded;            /* the build passed FORCE_LIST_BUDGET */
@@ -147,8 +150,24 @@ typedef struct fmodel {
     int quiet;              /* steps in a row with no force, speed or wall */
     long since_build;       /* steps since the build */
     double closing;         /* how far any two particles may have closed
-                             * in since the build: 2 drift bounds, or twice
-                             * the largest tile drift if less (step.c) */
+                             * in since the build: 2 drift bounds, twice
+                             * the largest tile drift, or from the fast
+                             * particles' paths, the least (step.c) */
+    double v2fast;          /* a particle faster than this is "fast": its
+                             * path is summed (tile->fastd); every other
+                             * has moved at most `slow` since the build */
+    double slow;
+    double *fs_v2;          /* a sample of squared speeds (nlist.c) */
+    size_t fs_cap;
+    uint8_t *is_fast;       /* n: a fast particle since the build */
+    long nis_fast;
+    uint32_t *fp_i;         /* this step's fast particles (step.c) */
+    double *fp_d;
+    int32_t *fp_next;       /* the next in the same cell (-1: none) */
+    size_t fp_cap;
+    uint64_t *fh_key;       /* a hash of their cells: key, first particle */
+    int32_t *fh_head;
+    size_t fh_cap;
     int built;
     ftile *tiles;
     uint32_t ntiles, cap_tiles;

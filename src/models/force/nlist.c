@@ -110,6 +110,13 @@ static int plan_tiles(psim_sim *e, fmodel *m)
         m->cap_tiles = g->ntiles;
     }
     plan_sweep(g, m);
+    if (e->n > m->nis_fast) {
+        psim_free(m->is_fast);
+        m->is_fast = psim_calloc((size_t)e->n);
+        if (!m->is_fast)
+            return -1;
+        m->nis_fast = e->n;
+    }
     m->ntiles = g->ntiles;
     uint32_t most = 0;
     for (uint32_t t = 0; t < g->ntiles; t++) {
@@ -578,6 +585,76 @@ static void measure_room(psim_sim *e, fmodel *m, uint64_t entries, double reach2
     psim_backoff_settle(&m->measure, room > 1.5 * m->skin);
 }
 
+/* Fast particles (force.h): at a build, the threshold is the speed that
+ * FORCE_FAST_SHARE of the particles pass, estimated from every
+ * FORCE_FAST_SAMPLE-th particle in store order (deterministic: the store
+ * is sorted).  No fast particles at rest or with a speed not finite. */
+#define FORCE_FAST_SHARE (1.0 / 512)
+#define FORCE_FAST_MOST 256.0
+#define FORCE_FAST_SAMPLE 64
+
+/* The k-th smallest of a[0..n) (no NaN), a reordered: quickselect. */
+static double kth_smallest(double *a, size_t n, size_t k)
+{
+    size_t lo = 0, hi = n - 1;
+    while (lo < hi) {
+        double pivot = a[lo + (hi - lo) / 2];
+        size_t i = lo, j = hi;
+        while (i <= j) {
+            while (a[i] < pivot)
+                i++;
+            while (a[j] > pivot)
+                j--;
+            if (i <= j) {
+                double t = a[i];
+                a[i] = a[j], a[j] = t;
+                i++;
+                if (j == 0)
+                    break;
+                j--;
+            }
+        }
+        if (k <= j)
+            hi = j;
+        else if (k >= i)
+            lo = i;
+        else
+            return a[k];
+    }
+    return a[k];
+}
+
+static int restart_fast(const psim_sim *e, fmodel *m)
+{
+    for (uint32_t t = 0; t < m->cap_tiles; t++) {
+        ftile *ft = &m->tiles[t];
+        for (size_t k = 0; k < ft->nfast; k++)
+            m->is_fast[ft->fast[k]] = 0;
+        ft->nfast = 0;
+        ft->drift = 0;
+    }
+    m->slow = 0;
+    m->v2fast = INFINITY;
+    const psim_store *s = &e->st;
+    size_t ns = ((size_t)e->n + FORCE_FAST_SAMPLE - 1) / FORCE_FAST_SAMPLE, c = m->fs_cap;
+    if (!ns)
+        return 0;
+    if (psim_reserve((void **)&m->fs_v2, &c, ns, sizeof *m->fs_v2))
+        return -1;
+    m->fs_cap = c;
+    for (size_t k = 0; k < ns; k++) {
+        size_t q = k * FORCE_FAST_SAMPLE;
+        m->fs_v2[k] = s->vx[q] * s->vx[q] + s->vy[q] * s->vy[q];
+        if (!(m->fs_v2[k] < INFINITY))
+            return 0;
+    }
+    double share = FORCE_FAST_SHARE * (double)e->n < FORCE_FAST_MOST
+                       ? FORCE_FAST_SHARE : FORCE_FAST_MOST / (double)e->n;
+    double v2 = kth_smallest(m->fs_v2, ns, (size_t)((1 - share) * (double)(ns - 1)));
+    m->v2fast = v2 > 0 ? v2 : INFINITY;
+    return 0;
+}
+
 /* Sort by cell and build every tile's lists, one task per tile (the tiles
  * write only their own lists: no dependencies). */
 int force_build_lists(psim_sim *e, fmodel *m)
@@ -612,11 +689,11 @@ int force_build_lists(psim_sim *e, fmodel *m)
         measure_room(e, m, entries, thr[FORCE_BUCKETS - 1]);
     e->stats.counter[FC_REBUILDS]++;
     e->stats.counter[FC_TASKS] += graph ? m->ntiles : 0;
+    if (restart_fast(e, m))
+        oom = 1;
     e->stats.phase_s[FPHASE_NLIST] += psim_now() - t0;
     m->drift = 0;
     m->since_build = 0;
-    for (uint32_t t = 0; t < m->ntiles; t++)
-        m->tiles[t].drift = 0;
     m->closing = 2 * force_drift_bound(m);
     m->built = 1;
     return crowded ? -2 : oom ? -1 : 0;

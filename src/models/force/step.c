@@ -222,7 +222,7 @@ static int tile_sum(const psim_store *s, ftile *t, facc *acc)
  * comparisons leave it), in one pass; then
  * the reflections (rare: a particle that crossed a wall), in a chunk that
  * has one.  Returns whether one left the box for good. */
-#define MOVE_CHUNK 64
+#define MOVE_CHUNK 64   /* a bit of a 64-bit word each (the fast particles) */
 #if PSIM_AVX512
 /* The kicks and drifts of move_chunk eight at a time (the same operations
  * in the same order: the same bits), from q0 while eight are left; the
@@ -231,8 +231,10 @@ __attribute__((target("avx512f"))) static uint32_t
 move_avx512(const flaw *k, const double *restrict ax, const double *restrict ay,
             double *restrict x, double *restrict y, double *restrict vx, double *restrict vy,
             uint32_t q0, uint32_t q1, double *m, double *lo, double *hi, double *u0, double *u1,
-            double *w0, double *w1)
+            double *w0, double *w1, double v2fast, uint64_t *fast)
 {
+    const __m512d vf = _mm512_set1_pd(v2fast);
+    uint64_t bits = 0;
     __m512d dt = _mm512_set1_pd(k->dt), mm = _mm512_set1_pd(*m), mlo = _mm512_set1_pd(*lo),
             mhi = _mm512_set1_pd(*hi), mu0 = _mm512_set1_pd(*u0), mu1 = _mm512_set1_pd(*u1),
             mw0 = _mm512_set1_pd(*w0), mw1 = _mm512_set1_pd(*w1);
@@ -248,6 +250,7 @@ move_avx512(const flaw *k, const double *restrict ax, const double *restrict ay,
         _mm512_storeu_pd(x + q, nx), _mm512_storeu_pd(y + q, ny);
         __m512d v2 = _mm512_add_pd(_mm512_mul_pd(ux, ux), _mm512_mul_pd(uy, uy));
         mm = _mm512_max_pd(v2, mm);   /* the second operand when the first is NaN */
+        bits |= (uint64_t)_mm512_cmp_pd_mask(v2, vf, _CMP_GT_OQ) << (q - q0);
         mlo = _mm512_min_pd(_mm512_min_pd(nx, ny), mlo);
         mhi = _mm512_max_pd(_mm512_max_pd(nx, ny), mhi);
         mu0 = _mm512_min_pd(ux, mu0), mu1 = _mm512_max_pd(ux, mu1);
@@ -259,21 +262,24 @@ move_avx512(const flaw *k, const double *restrict ax, const double *restrict ay,
     *lo = _mm512_reduce_min_pd(mlo), *hi = _mm512_reduce_max_pd(mhi);
     *u0 = _mm512_reduce_min_pd(mu0), *u1 = _mm512_reduce_max_pd(mu1);
     *w0 = _mm512_reduce_min_pd(mw0), *w1 = _mm512_reduce_max_pd(mw1);
+    *fast |= bits;
     return q;
 }
 #endif
 
 static int move_chunk(const flaw *law, ftile *t, const facc *acc, double *restrict x,
                       double *restrict y, double *restrict vx, double *restrict vy, uint32_t q0,
-                      uint32_t q1, int simd)
+                      uint32_t q1, int simd, double v2fast, uint64_t *fast)
 {
     const flaw kl = *law, *k = &kl;   /* a copy: no store can change it */
     const double *restrict ax = acc->ax, *restrict ay = acc->ay;
     double m = t->v2max, lo = 0, hi = k->size, u0 = t->u0, u1 = t->u1, w0 = t->w0, w1 = t->w1;
     uint32_t q = q0;
+    *fast = 0;
 #if PSIM_AVX512
     if (simd)
-        q = move_avx512(k, ax, ay, x, y, vx, vy, q0, q1, &m, &lo, &hi, &u0, &u1, &w0, &w1);
+        q = move_avx512(k, ax, ay, x, y, vx, vy, q0, q1, &m, &lo, &hi, &u0, &u1, &w0, &w1,
+                        v2fast, fast);
 #endif
 #ifdef __SSE2__
     __m128d dt = _mm_set1_pd(k->dt), mm = _mm_set1_pd(m), mlo = _mm_set1_pd(lo),
@@ -288,6 +294,7 @@ static int move_chunk(const flaw *law, ftile *t, const facc *acc, double *restri
         _mm_storeu_pd(x + q, nx), _mm_storeu_pd(y + q, ny);
         __m128d v2 = _mm_add_pd(_mm_mul_pd(ux, ux), _mm_mul_pd(uy, uy));
         mm = _mm_max_pd(v2, mm);   /* the second operand when the first is NaN */
+        *fast |= (uint64_t)_mm_movemask_pd(_mm_cmpgt_pd(v2, _mm_set1_pd(v2fast))) << (q - q0);
         mlo = _mm_min_pd(_mm_min_pd(nx, ny), mlo);
         mhi = _mm_max_pd(_mm_max_pd(nx, ny), mhi);
         mu0 = _mm_min_pd(ux, mu0), mu1 = _mm_max_pd(ux, mu1);
@@ -308,6 +315,7 @@ static int move_chunk(const flaw *law, ftile *t, const facc *acc, double *restri
         vx[q] = ux, vy[q] = uy, x[q] = nx, y[q] = ny;
         double v2 = ux * ux + uy * uy;
         m = v2 > m ? v2 : m;
+        *fast |= (uint64_t)(v2 > v2fast) << (q - q0);
         lo = nx < lo ? nx : lo, lo = ny < lo ? ny : lo;
         hi = nx > hi ? nx : hi, hi = ny > hi ? ny : hi;
         u0 = ux < u0 ? ux : u0, u1 = ux > u1 ? ux : u1;
@@ -369,6 +377,27 @@ static int take_records(const fmodel *m, ftile *t)
     return 0;
 }
 
+/* The particles q0 + b for the bits b of `fast` (faster than v2fast) that
+ * were not yet fast: to the tile's fast ones, their paths so far at most
+ * `slow`. */
+static int join_fast(const fmodel *m, ftile *t, uint32_t q0, uint64_t fast)
+{
+    for (; fast; fast &= fast - 1) {
+        uint32_t q = q0 + (uint32_t)__builtin_ctzll(fast);
+        if (m->is_fast[q])
+            continue;
+        size_t c2 = t->fastcap;
+        if (t->nfast == t->fastcap &&
+            (psim_reserve((void **)&t->fastd, &c2, t->nfast + 1, sizeof *t->fastd) ||
+             psim_reserve((void **)&t->fast, &t->fastcap, t->nfast + 1, sizeof *t->fast)))
+            return -1;
+        m->is_fast[q] = 1;
+        t->fast[t->nfast] = q;
+        t->fastd[t->nfast++] = m->slow;
+    }
+    return 0;
+}
+
 /* Sum and move the tile's particles in place (the forces of its sources,
  * the only other readers of its positions, are done). */
 static void tile_integrate(const fmodel *m, psim_store *s, ftile *t)
@@ -386,9 +415,15 @@ static void tile_integrate(const fmodel *m, psim_store *s, ftile *t)
     uint32_t f = t->first;
     double *x = s->x + f, *y = s->y + f, *vx = s->vx + f, *vy = s->vy + f;
     int lost = 0;
-    for (uint32_t q = 0; q < t->n; q += MOVE_CHUNK)
-        lost |= move_chunk(&m->law, t, acc, x, y, vx, vy, q,
-                           t->n - q < MOVE_CHUNK ? t->n : q + MOVE_CHUNK, m->simd);
+    for (uint32_t q = 0; q < t->n; q += MOVE_CHUNK) {
+        uint32_t q1 = t->n - q < MOVE_CHUNK ? t->n : q + MOVE_CHUNK;
+        uint64_t fast;
+        lost |= move_chunk(&m->law, t, acc, x, y, vx, vy, q, q1, m->simd, m->v2fast, &fast);
+        if (fast && join_fast(m, t, f + q, fast)) {
+            t->oom = 1;
+            break;
+        }
+    }
     for (size_t r = 0; r < t->nrec; r++) {   /* zero again for the next step */
         uint32_t q = t->rec[r].owner - f;
         acc->ax[q] = acc->ay[q] = 0;
@@ -493,21 +528,123 @@ static double tiles_closing(const fmodel *m, uint32_t t, const int32_t *nb)
     return c < all ? c : all;
 }
 
+/* Two fast particles close in by at most the sum of their paths; but
+ * only a pair within the cutoff now needs to be listed.  The largest sum
+ * over such pairs (0: none), found through a hash of the fast particles'
+ * cells (cells one cutoff wide: a pair within the cutoff is in the same or
+ * adjacent cells), with the same test as the pair tests' (NaN counts);
+ * with more than FORCE_FAST_MAX_SHARE of the particles fast, or a
+ * position not finite, the sum of the two longest paths (p1 + second). */
+#define FORCE_FAST_MAX_SHARE (1.0 / 64)
+static uint64_t fast_key(int64_t cx, int64_t cy)
+{
+    return ((uint64_t)cx << 32) ^ (uint64_t)(uint32_t)cy;
+}
+
+static size_t fast_slot(const fmodel *m, uint64_t key)
+{
+    size_t h = (size_t)((key * 0x9E3779B97F4A7C15ull) >> 20) & (m->fh_cap - 1);
+    while (m->fh_head[h] >= 0 && m->fh_key[h] != key)
+        h = (h + 1) & (m->fh_cap - 1);
+    return h;
+}
+
+static double fast_pairs(fmodel *m, const psim_store *s, double p1, double second)
+{
+    size_t nf = 0;
+    for (uint32_t t = 0; t < m->ntiles; t++)
+        nf += m->tiles[t].nfast;
+    if (nf < 2)
+        return 0;
+    size_t cap = 16;
+    while (cap < 2 * nf)
+        cap *= 2;
+    size_t c1 = m->fp_cap, c2 = m->fp_cap, c3 = m->fh_cap, c4 = m->fh_cap;
+    if ((double)nf > FORCE_FAST_MAX_SHARE * (double)s->n ||
+        psim_reserve((void **)&m->fp_i, &c1, nf, sizeof *m->fp_i) ||
+        psim_reserve((void **)&m->fp_d, &c2, nf, sizeof *m->fp_d) ||
+        psim_reserve((void **)&m->fp_next, &m->fp_cap, nf, sizeof *m->fp_next) ||
+        psim_reserve((void **)&m->fh_key, &c3, cap, sizeof *m->fh_key) ||
+        psim_reserve((void **)&m->fh_head, &c4, cap, sizeof *m->fh_head))
+        return p1 + second;
+    m->fh_cap = cap;   /* a power of two: the first `cap` entries */
+    for (size_t h = 0; h < cap; h++)
+        m->fh_head[h] = -1;
+    const double inv = 1 / m->law.cutoff;
+    size_t k = 0;
+    for (uint32_t t = 0; t < m->ntiles; t++)
+        for (size_t f = 0; f < m->tiles[t].nfast; f++, k++) {
+            uint32_t q = m->tiles[t].fast[f];
+            double cx = floor(s->x[q] * inv), cy = floor(s->y[q] * inv);
+            if (!(fabs(cx) < 1e9 && fabs(cy) < 1e9))   /* not finite, or far out */
+                return p1 + second;
+            m->fp_i[k] = q;
+            m->fp_d[k] = m->tiles[t].fastd[f];
+            size_t h = fast_slot(m, fast_key((int64_t)cx, (int64_t)cy));
+            m->fh_key[h] = fast_key((int64_t)cx, (int64_t)cy);
+            m->fp_next[k] = m->fh_head[h];
+            m->fh_head[h] = (int32_t)k;
+        }
+    double most = 0;
+    for (k = 0; k < nf; k++) {
+        uint32_t i = m->fp_i[k];
+        int64_t cx = (int64_t)floor(s->x[i] * inv), cy = (int64_t)floor(s->y[i] * inv);
+        for (int64_t dy = -1; dy <= 1; dy++)
+            for (int64_t dx = -1; dx <= 1; dx++) {
+                size_t h = fast_slot(m, fast_key(cx + dx, cy + dy));
+                for (int32_t l = m->fh_head[h]; l >= 0; l = m->fp_next[l]) {
+                    if ((size_t)l <= k)
+                        continue;
+                    uint32_t j = m->fp_i[l];
+                    double ex = s->x[j] - s->x[i], ey = s->y[j] - s->y[i];
+                    double d = m->fp_d[k] + m->fp_d[l];
+                    if (!(ex * ex + ey * ey > m->law.cutoff2) && d > most)
+                        most = d;
+                }
+            }
+    }
+    return most;
+}
+
 /* After a step: each tile's drift, and how far any two particles may
- * have closed in since the build: twice the largest tile drift (two
- * particles of any tiles t, u close in by at most drift t + drift u), at
- * most 2 drift bounds (the sum over the steps of the largest of the
- * tiles' speeds is no less than the largest tile's sum).  The rebuilds
- * gain little from it; the shells do, tile by tile (tiles_closing: a tile
- * far from the fastest particles tests fewer shells). */
-static void tiles_drift(fmodel *m)
+ * have closed in since the build (the least of three bounds):
+ *   - twice the largest tile drift (two particles of any tiles t, u close
+ *     in by at most drift t + drift u);
+ *   - 2 drift bounds (the sum over the steps of the largest of the tiles'
+ *     speeds is no less than the largest tile's sum);
+ *   - from the fast particles: each fast one's path (the sum of its speeds
+ *     times dt since it became fast, plus `slow` before), and `slow`, the
+ *     steps since the build times the speed sqrt(v2fast), for the others:
+ *     the two longest paths, or the longest and `slow`, or twice `slow`.
+ * The box's fastest particle sets the first two; a few fast particles
+ * each close in at their own speed with the slow rest (fewer rebuilds). */
+static void tiles_drift(fmodel *m, const psim_store *s)
 {
     double most = 0, ulps = force_drift_bound(m) - m->drift, all = 2 * force_drift_bound(m);
+    double p1 = 0, p2 = 0;   /* the two longest paths of fast particles */
+    m->slow += sqrt(m->v2fast) * m->law.dt;
     for (uint32_t t = 0; t < m->ntiles; t++) {
-        m->tiles[t].drift += sqrt(m->tiles[t].v2max) * m->law.dt;
-        most = m->tiles[t].drift > most ? m->tiles[t].drift : most;
+        ftile *ft = &m->tiles[t];
+        ft->drift += sqrt(ft->v2max) * m->law.dt;
+        most = ft->drift > most ? ft->drift : most;
+        for (size_t k = 0; k < ft->nfast; k++) {
+            uint32_t q = ft->fast[k];
+            double d = ft->fastd[k] += sqrt(s->vx[q] * s->vx[q] + s->vy[q] * s->vy[q]) * m->law.dt;
+            if (d > p1)
+                p2 = p1, p1 = d;
+            else if (d > p2)
+                p2 = d;
+        }
     }
-    m->closing = 2 * (most + ulps) < all ? 2 * (most + ulps) : all;
+    double slow = m->slow, fast = 2 * slow;
+    double pair = fast_pairs(m, s, p1, p2);   /* p1 + p2 when not looked at */
+    fast = p1 + slow > fast ? p1 + slow : fast;
+    fast = pair > fast ? pair : fast;
+    fast += 2 * ulps;
+    double c = 2 * (most + ulps) < all ? 2 * (most + ulps) : all;
+    m->closing = fast < c ? fast : c;   /* NaN speeds: the box's bound (all) */
+    if (!(m->closing == m->closing))
+        m->closing = all;
 }
 
 typedef void (*tile_fn)(const fmodel *m, psim_store *s, ftile *t);
@@ -572,8 +709,10 @@ int force_step_lists(psim_sim *e, fmodel *m)
 {
     psim_store *s = &e->st;
     psim_thread_stats *ts = e->tstats;
-    for (uint32_t t = 0; t < m->ntiles; t++)
-        m->tiles[t].shells = active_shells(m, tiles_closing(m, t, m->tiles[t].fwd));
+    for (uint32_t t = 0; t < m->ntiles; t++) {
+        double c = tiles_closing(m, t, m->tiles[t].fwd);
+        m->tiles[t].shells = active_shells(m, c < m->closing ? c : m->closing);
+    }
     double t0 = psim_now();
     /* one thread, or one tile: the same calls in order */
     const int graph = e->threads > 1 && m->ntiles > 1;
@@ -590,7 +729,9 @@ int force_step_lists(psim_sim *e, fmodel *m)
     e->stats.phase_s[FPHASE_INTEGRATE] += wall * (1 - share);
     e->stats.counter[FC_TASKS] += graph ? 2 * m->ntiles : 0;
     int rc = finish(e, m);
-    tiles_drift(m);
+    double t1 = psim_now();
+    tiles_drift(m, s);   /* the bookkeeping of the moves: timed with them */
+    e->stats.phase_s[FPHASE_INTEGRATE] += psim_now() - t1;
     return rc;
 }
 
