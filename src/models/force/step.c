@@ -531,7 +531,7 @@ static double tiles_closing(const fmodel *m, uint32_t t, const int32_t *nb)
 /* Two fast particles close in by at most the sum of their paths; but
  * only a pair within the cutoff now needs to be listed.  The largest sum
  * over such pairs (0: none), found through a hash of the fast particles'
- * cells (cells one cutoff wide: a pair within the cutoff is in the same or
+ * cells (cells a cutoff wide: a pair within the cutoff is in the same or
  * adjacent cells), with the same test as the pair tests' (NaN counts);
  * with more than FORCE_FAST_MAX_SHARE of the particles fast, or a
  * position not finite, the sum of the two longest paths (p1 + second). */
@@ -570,13 +570,16 @@ static double fast_pairs(fmodel *m, const psim_store *s, double p1, double secon
     m->fh_cap = cap;   /* a power of two: the first `cap` entries */
     for (size_t h = 0; h < cap; h++)
         m->fh_head[h] = -1;
-    const double inv = 1 / m->law.cutoff;
+    /* cells a little wider than the cutoff, and at most 1e6 of them from
+     * 0: a pair within the cutoff is in the same or adjacent cells however
+     * x / side rounds */
+    const double inv = 1 / (m->law.cutoff * (1 + 1e-9));
     size_t k = 0;
     for (uint32_t t = 0; t < m->ntiles; t++)
         for (size_t f = 0; f < m->tiles[t].nfast; f++, k++) {
             uint32_t q = m->tiles[t].fast[f];
             double cx = floor(s->x[q] * inv), cy = floor(s->y[q] * inv);
-            if (!(fabs(cx) < 1e9 && fabs(cy) < 1e9))   /* not finite, or far out */
+            if (!(fabs(cx) < 1e6 && fabs(cy) < 1e6))   /* not finite, or far out */
                 return p1 + second;
             m->fp_i[k] = q;
             m->fp_d[k] = m->tiles[t].fastd[f];
