@@ -168,6 +168,7 @@ typedef struct fmodel {
     uint64_t *fh_key;       /* a hash of their cells: key, first particle */
     int32_t *fh_head;
     size_t fh_cap;
+    int fh_shift;           /* 64 - log2(fh_cap) */
     int built;
     ftile *tiles;
     uint32_t ntiles, cap_tiles;

@@ -543,7 +543,7 @@ static uint64_t fast_key(int64_t cx, int64_t cy)
 
 static size_t fast_slot(const fmodel *m, uint64_t key)
 {
-    size_t h = (size_t)((key * 0x9E3779B97F4A7C15ull) >> 20) & (m->fh_cap - 1);
+    size_t h = (size_t)((key * 0x9E3779B97F4A7C15ull) >> m->fh_shift);   /* the top bits */
     while (m->fh_head[h] >= 0 && m->fh_key[h] != key)
         h = (h + 1) & (m->fh_cap - 1);
     return h;
@@ -557,8 +557,9 @@ static double fast_pairs(fmodel *m, const psim_store *s, double p1, double secon
     if (nf < 2)
         return 0;
     size_t cap = 16;
+    int shift = 60;
     while (cap < 2 * nf)
-        cap *= 2;
+        cap *= 2, shift--;
     size_t c1 = m->fp_cap, c2 = m->fp_cap, c3 = m->fh_cap, c4 = m->fh_cap;
     if ((double)nf > FORCE_FAST_MAX_SHARE * (double)s->n ||
         psim_reserve((void **)&m->fp_i, &c1, nf, sizeof *m->fp_i) ||
@@ -568,12 +569,17 @@ static double fast_pairs(fmodel *m, const psim_store *s, double p1, double secon
         psim_reserve((void **)&m->fh_head, &c4, cap, sizeof *m->fh_head))
         return p1 + second;
     m->fh_cap = cap;   /* a power of two: the first `cap` entries */
+    m->fh_shift = shift;
     for (size_t h = 0; h < cap; h++)
         m->fh_head[h] = -1;
     /* cells a little wider than the cutoff, and at most 1e6 of them from
      * 0: a pair within the cutoff is in the same or adjacent cells however
      * x / side rounds */
     const double inv = 1 / (m->law.cutoff * (1 + 1e-9));
+    /* a pair adds more than the longest path plus `slow` only if one of
+     * the two is more than half as far beyond `slow` as the longest: only
+     * those look for partners (the others are only found) */
+    const double half = m->slow + 0.5 * (p1 - m->slow);
     size_t k = 0;
     for (uint32_t t = 0; t < m->ntiles; t++)
         for (size_t f = 0; f < m->tiles[t].nfast; f++, k++) {
@@ -590,14 +596,16 @@ static double fast_pairs(fmodel *m, const psim_store *s, double p1, double secon
         }
     double most = 0;
     for (k = 0; k < nf; k++) {
+        if (!(m->fp_d[k] >= half))
+            continue;
         uint32_t i = m->fp_i[k];
         int64_t cx = (int64_t)floor(s->x[i] * inv), cy = (int64_t)floor(s->y[i] * inv);
         for (int64_t dy = -1; dy <= 1; dy++)
             for (int64_t dx = -1; dx <= 1; dx++) {
                 size_t h = fast_slot(m, fast_key(cx + dx, cy + dy));
                 for (int32_t l = m->fh_head[h]; l >= 0; l = m->fp_next[l]) {
-                    if ((size_t)l <= k)
-                        continue;
+                    if ((size_t)l == k || ((size_t)l < k && m->fp_d[l] >= half))
+                        continue;   /* itself, or a pair met from l */
                     uint32_t j = m->fp_i[l];
                     double ex = s->x[j] - s->x[i], ey = s->y[j] - s->y[i];
                     double d = m->fp_d[k] + m->fp_d[l];
