@@ -167,8 +167,8 @@ typedef struct fmodel {
     size_t fp_cap;
     uint64_t *fh_key;       /* a hash of their cells: key, first particle */
     int32_t *fh_head;
-    size_t fh_cap;
-    int fh_shift;           /* 64 - log2(fh_cap) */
+    size_t fh_cap;          /* their room */
+    int fh_shift;           /* this step's table: 2^(64 - fh_shift) entries */
     int built;
     ftile *tiles;
     uint32_t ntiles, cap_tiles;

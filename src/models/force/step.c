@@ -541,36 +541,36 @@ static uint64_t fast_key(int64_t cx, int64_t cy)
     return ((uint64_t)cx << 32) ^ (uint64_t)(uint32_t)cy;
 }
 
+/* The slot of key in this step's table (2^(64 - fh_shift) entries, the
+ * first of the arrays): where it is, or the empty slot it would take. */
 static size_t fast_slot(const fmodel *m, uint64_t key)
 {
+    const size_t mask = ((size_t)1 << (64 - m->fh_shift)) - 1;
     size_t h = (size_t)((key * 0x9E3779B97F4A7C15ull) >> m->fh_shift);   /* the top bits */
     while (m->fh_head[h] >= 0 && m->fh_key[h] != key)
-        h = (h + 1) & (m->fh_cap - 1);
+        h = (h + 1) & mask;
     return h;
 }
 
-static double fast_pairs(fmodel *m, const psim_store *s, double p1, double second)
+/* (nf fast particles; p1 and second the two longest paths) */
+static double fast_pairs(fmodel *m, const psim_store *s, size_t nf, double p1, double second)
 {
-    size_t nf = 0;
-    for (uint32_t t = 0; t < m->ntiles; t++)
-        nf += m->tiles[t].nfast;
     if (nf < 2)
         return 0;
-    size_t cap = 16;
+    size_t size = 16;   /* the table: a power of two, at most half full */
     int shift = 60;
-    while (cap < 2 * nf)
-        cap *= 2, shift--;
-    size_t c1 = m->fp_cap, c2 = m->fp_cap, c3 = m->fh_cap, c4 = m->fh_cap;
+    while (size < 2 * nf)
+        size *= 2, shift--;
+    size_t c1 = m->fp_cap, c2 = m->fp_cap, c3 = m->fh_cap;
     if ((double)nf > FORCE_FAST_MAX_SHARE * (double)s->n ||
         psim_reserve((void **)&m->fp_i, &c1, nf, sizeof *m->fp_i) ||
         psim_reserve((void **)&m->fp_d, &c2, nf, sizeof *m->fp_d) ||
         psim_reserve((void **)&m->fp_next, &m->fp_cap, nf, sizeof *m->fp_next) ||
-        psim_reserve((void **)&m->fh_key, &c3, cap, sizeof *m->fh_key) ||
-        psim_reserve((void **)&m->fh_head, &c4, cap, sizeof *m->fh_head))
+        psim_reserve((void **)&m->fh_key, &c3, size, sizeof *m->fh_key) ||
+        psim_reserve((void **)&m->fh_head, &m->fh_cap, size, sizeof *m->fh_head))
         return p1 + second;
-    m->fh_cap = cap;   /* a power of two: the first `cap` entries */
     m->fh_shift = shift;
-    for (size_t h = 0; h < cap; h++)
+    for (size_t h = 0; h < size; h++)
         m->fh_head[h] = -1;
     /* cells a little wider than the cutoff, and at most 1e6 of them from
      * 0: a pair within the cutoff is in the same or adjacent cells however
@@ -633,11 +633,13 @@ static void tiles_drift(fmodel *m, const psim_store *s)
 {
     double most = 0, ulps = force_drift_bound(m) - m->drift, all = 2 * force_drift_bound(m);
     double p1 = 0, p2 = 0;   /* the two longest paths of fast particles */
+    size_t nf = 0;
     m->slow += sqrt(m->v2fast) * m->law.dt;
     for (uint32_t t = 0; t < m->ntiles; t++) {
         ftile *ft = &m->tiles[t];
         ft->drift += sqrt(ft->v2max) * m->law.dt;
         most = ft->drift > most ? ft->drift : most;
+        nf += ft->nfast;
         for (size_t k = 0; k < ft->nfast; k++) {
             uint32_t q = ft->fast[k];
             double d = ft->fastd[k] += sqrt(s->vx[q] * s->vx[q] + s->vy[q] * s->vy[q]) * m->law.dt;
@@ -648,7 +650,7 @@ static void tiles_drift(fmodel *m, const psim_store *s)
         }
     }
     double slow = m->slow, fast = 2 * slow;
-    double pair = fast_pairs(m, s, p1, p2);   /* p1 + p2 when not looked at */
+    double pair = fast_pairs(m, s, nf, p1, p2);   /* p1 + p2 when not looked at */
     fast = p1 + slow > fast ? p1 + slow : fast;
     fast = pair > fast ? pair : fast;
     fast += 2 * ulps;
@@ -697,12 +699,8 @@ static void run_step(const fmodel *m, psim_store *s, psim_thread_stats *ts, int 
 {
     const uint32_t row = (uint32_t)m->sweep_row;
     if (graph) {
-        for (uint32_t k = 0; k < m->ntiles; k++)
-            task_spawn_tile(m, s, ts, tile_force, FPHASE_FORCE, graph, &m->tiles[k]);
-#pragma omp taskwait
-        for (uint32_t k = 0; k < m->ntiles; k++)
-            task_spawn_tile(m, s, ts, tile_integrate, FPHASE_INTEGRATE, graph, &m->tiles[k]);
-#pragma omp taskwait
+        run_tiles(m, s, ts, tile_force, FPHASE_FORCE, graph);
+        run_tiles(m, s, ts, tile_integrate, FPHASE_INTEGRATE, graph);
         return;
     }
     for (uint32_t k = 0; k < m->ntiles; k++) {
