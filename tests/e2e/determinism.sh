@@ -68,6 +68,25 @@ gen "$tmp/d9.in" --n 3000 --r 2 --density 0.9 --steps 20 --seed 22
 all_thread_forms d5 "$tmp/d5.in"
 all_thread_forms d9 "$tmp/d9.in"
 
+# One tile on more threads: the components of its contacts are resolved in
+# parts, a part a thread (resolve.c), with the counters of one worklist.
+for name in d5 d9; do
+    [[ $(json_int "$tmp/$name/ref.json" tiles) == 1 ]] || fail "$name: should be one tile"
+    for t in 2 3; do
+        (($(json_int "$tmp/$name/t$t.json" tasks) > $(json_int "$tmp/$name/ref.json" tasks))) ||
+            fail "$name: --threads $t should resolve in parts (more tasks than one thread)"
+        for key in pair_checks pair_resolutions wall_resolutions; do
+            [[ $(json_int "$tmp/$name/t$t.json" $key) == $(json_int "$tmp/$name/ref.json" $key) ]] ||
+                fail "$name: $key of --threads $t differs from one thread"
+        done
+    done
+done
+# many small components, and parts on four threads
+gen "$tmp/d7.in" --n 4000 --r 2 --density 0.7 --steps 20 --seed 25
+threads_1_2_3 d7 "$tmp/d7.in"
+run_ok "$PSIM" --quiet --threads 4 --trace "$tmp/d7/t4.trace" "$tmp/d7.in"
+same_file "$tmp/d7/ref.trace" "$tmp/d7/t4.trace" "d7: --trace of --threads 1 and 4"
+
 # Many tiles: of 2x2 cells on the dense scene, of one cell on a smaller one.
 threads_1_2_3 d9tile2 "$tmp/d9.in" --tile 2
 (($(json_int "$tmp/d9tile2/ref.json" tiles) >= 100)) || fail "--tile 2 should give at least 100 tiles"

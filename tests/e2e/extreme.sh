@@ -35,6 +35,13 @@ expect_fail --rc 1 "step 1: collisions did not settle within 300000 resolutions 
 # stops it, settle=100 and the default run it, to the same bytes
 gen "$tmp/dense.in" --n 1000 --density 1.8 --steps 3 --seed 3
 expect_fail --rc 1 "(30 per disk, --option settle=K)" "$PSIM" --quiet -O settle=30 "$tmp/dense.in"
+# where a step gives up does not depend on the threads (one tile resolved
+# in parts, a part a thread, is run again as one worklist)
+gave_up=$FAIL_LINE
+for t in 2 3; do
+    expect_fail --rc 1 "(30 per disk, --option settle=K)" "$PSIM" --quiet --threads $t -O settle=30 "$tmp/dense.in"
+    [[ $FAIL_LINE == "$gave_up" ]] || fail "--threads $t gave up otherwise: $FAIL_LINE (one thread: $gave_up)"
+done
 run_ok "$PSIM" --quiet -O settle=100 --final "$tmp/dense100.out" "$tmp/dense.in"
 run_ok "$PSIM" --quiet --stats "$tmp/dense.json" --final "$tmp/dense.out" "$tmp/dense.in"
 same_file "$tmp/dense100.out" "$tmp/dense.out"

@@ -131,7 +131,18 @@ typedef struct dmodel {
                               * --option simd, default 1 where the CPU has it) */
     int regrid;              /* the grid follows the disks (regrid.c; --option
                               * regrid, default 1) */
+    /* one tile's resolution in parts, one a thread (resolve.c) */
+    uint32_t *part_seen;     /* per disk: the stamp of the walk that met it */
+    uint32_t part_stamp;
+    uint8_t *part_of;        /* each disk's part */
+    double *part_v;          /* the velocities before, for a rerun */
+    uint32_t *part_queue;    /* a worklist's room a part */
+    uint32_t parts_cap;      /* disks they have room for */
+    int parts_n;             /* parts they have room for */
 } dmodel;
+
+/* Most parts of one tile's resolution (resolve.c). */
+#define PARTS_MAX 255
 
 /* A step's collisions must settle within this many resolutions (pair and
  * wall) per disk, on average over the scene (--option settle=K).  The

@@ -6,6 +6,7 @@
 
 #include "collide.h"
 #include "discrete.h"
+#include "../../engine/mem.h"
 #include "../../engine/task.h"
 #include "../../engine/tstats.h"
 
@@ -34,6 +35,18 @@ static inline uint32_t wl_pop(wl *w)
     return i;
 }
 
+/* Which disks a worklist takes, and what it did: all of the tile's
+ * (own NULL), or the part k of its components (resolve_parts). */
+typedef struct wpart {
+    const uint8_t *own;   /* per disk of the tile: its component's part */
+    uint8_t k;
+    uint32_t *queue;      /* room for every disk of the tile */
+    double *save;         /* NULL, or room for the velocities of every disk
+                           * of the tile (x, then y) before its first pop */
+    uint64_t checks, pres, wres;
+    uint8_t diverged;
+} wpart;
+
 /* Worklist fixpoint over the contacts inside tile t (and its walls).
  *
  * A pair needs a test only when one of its disks changed velocity since the
@@ -41,18 +54,27 @@ static inline uint32_t wl_pop(wl *w)
  * contacts; a disk popped unchanged tests only contacts with disks not yet
  * popped this step (F_SEEN), because every other pair was tested at the
  * later disk's last pop and a disk that changed since is queued again. */
-static void tile_task(const psim_sim *e, dmodel *m, dtile *t, int first)
+static void worklist(const psim_sim *e, dmodel *m, dtile *t, int first, wpart *wp)
 {
     double *restrict vx = e->st.vx, *restrict vy = e->st.vy;
     const double *x = e->st.x, *y = e->st.y;
     const double L = e->L, r = e->r;
     const int walls = e->grid.tile_wall[t - m->tiles] && m->fl.walls;
     uint8_t *restrict flag = m->flag, *act = m->active, *near = m->nearwall;
-    wl w = {t->queue, t->p1 - t->p0, 0, 0};
+    const uint8_t *own = wp->own;
+    double *save = wp->save;
+    const uint32_t nt = t->p1 - t->p0;
+    wl w = {wp->queue, t->p1 - t->p0, 0, 0};
     uint64_t checks = 0, pres = 0, wres = 0;
     const uint64_t budget = m->budget;
 
     for (uint32_t i = t->p0; i < t->p1; i++) {
+        if (own && own[i - t->p0] != wp->k)
+            continue;   /* another part's component */
+        if (save) {   /* the velocity before, for a rerun */
+            save[i - t->p0] = vx[i];
+            save[nt + i - t->p0] = vy[i];
+        }
         if (!first) {   /* later rounds: the few disks edge tasks changed */
             uint64_t word;
             if (i + 8 <= t->p1 && (memcpy(&word, act + i, 8), word == 0)) {
@@ -78,10 +100,10 @@ static void tile_task(const psim_sim *e, dmodel *m, dtile *t, int first)
         flag[i] = first ? 0 : (uint8_t)(flag[i] | F_CHANGED);
         wl_push(&w, flag, i);
     }
-    t->has_active = 0;
+    wp->diverged = 0;
     while (w.count) {
         if (pres + wres > budget) {
-            t->diverged = 1;
+            wp->diverged = 1;
             break;
         }
         uint32_t i = wl_pop(&w);
@@ -119,12 +141,27 @@ static void tile_task(const psim_sim *e, dmodel *m, dtile *t, int first)
             wl_push(&w, flag, i);
         }
     }
+    wp->checks = checks, wp->pres = pres, wp->wres = wres;
+    e->tstats[omp_get_thread_num()].wall_resolutions += wres;
+}
+
+/* What a tile's worklists did, to the tile. */
+static void tile_done(dtile *t, uint64_t checks, uint64_t pres, uint64_t wres, int diverged)
+{
+    t->has_active = 0;
+    t->diverged |= (uint8_t)diverged;
     t->checks += checks;
     t->wall_res += wres;
-    e->tstats[omp_get_thread_num()].wall_resolutions += wres;
     t->pair_res += pres;
     t->round_res = pres + wres;
     t->changed_inner = (pres + wres) != 0;
+}
+
+static void tile_task(const psim_sim *e, dmodel *m, dtile *t, int first)
+{
+    wpart wp = {.queue = t->queue};
+    worklist(e, m, t, first, &wp);
+    tile_done(t, wp.checks, wp.pres, wp.wres, wp.diverged);
 }
 
 /* One pass over a list of contacts across a tile border. */
@@ -207,6 +244,131 @@ static void timed_edge(const psim_sim *e, dmodel *m, size_t k, int first)
     psim_tstat_add(e->tstats, DPHASE_RESOLVE, psim_now() - t0, 1, 0);
 }
 
+/* One tile and more threads (the course's 10k scenes): with positions
+ * frozen, the contacts are fixed for the step, and a pop reads and writes
+ * only disks of its own component of the contact graph; the FIFO keeps
+ * each component's pops in the order they have in the one worklist over
+ * all.  So worklists over any grouping of the components resolve every
+ * disk as the one worklist does, bit for bit: the components are split
+ * into parts (by the store place of their first disk, which keeps a part
+ * together in space), a part per thread.  A step that runs past its
+ * budget is run again as one worklist (from the velocities kept), so that
+ * where it gives up, and the error, do not depend on the threads. */
+#define PARTS_MIN_CONTACTS 256
+
+/* Each disk's part: by its store place (parts of equal size), except the
+ * components that a split cuts, each of which goes whole to the part of
+ * the disk it is first met from (a walk over its contacts; seen[] holds
+ * the call's stamp for a disk walked). */
+static int plan_parts(const psim_sim *e, dmodel *m, const dtile *t, int parts)
+{
+    (void)e;
+    const uint32_t n = t->p1 - t->p0;
+    if (n > m->parts_cap || parts > m->parts_n) {   /* room for n disks and the parts */
+        psim_free(m->part_seen), psim_free(m->part_of), psim_free(m->part_v), psim_free(m->part_queue);
+        m->part_seen = psim_calloc((size_t)n * sizeof *m->part_seen);
+        m->part_of = psim_alloc(n);
+        m->part_v = psim_alloc(2 * (size_t)n * sizeof *m->part_v);
+        m->part_queue = psim_alloc((size_t)parts * n * sizeof *m->part_queue);
+        m->parts_cap = m->part_seen && m->part_of && m->part_v && m->part_queue ? n : 0;
+        m->parts_n = parts;
+        m->part_stamp = 0;
+        if (!m->parts_cap)
+            return -1;
+    }
+    if (++m->part_stamp == 0) {   /* the stamps wrapped: clear them */
+        memset(m->part_seen, 0, (size_t)n * sizeof *m->part_seen);
+        m->part_stamp = 1;
+    }
+    uint8_t *of = m->part_of;
+    uint32_t *seen = m->part_seen, *walk = m->part_queue, stamp = m->part_stamp;
+    uint64_t load[PARTS_MAX];   /* each part's contacts (twice), the work's measure */
+    for (int k = 0; k < parts; k++) {
+        uint32_t a = (uint32_t)((uint64_t)n * (uint64_t)k / (uint64_t)parts);
+        uint32_t b = (uint32_t)((uint64_t)n * (uint64_t)(k + 1) / (uint64_t)parts);
+        memset(of + a, k, b - a);
+        load[k] = t->adj0[b] - t->adj0[a];
+    }
+    for (size_t c = 0; c < t->in.n; c++) {
+        uint32_t i = (uint32_t)t->in.c[c].i - t->p0, j = (uint32_t)t->in.c[c].j - t->p0;
+        if (of[i] == of[j])
+            continue;
+        /* a cut component: all of it to the least loaded of its parts */
+        uint32_t head = 0, tail = 0;
+        walk[tail++] = i;
+        seen[i] = stamp;
+        while (head < tail) {
+            uint32_t d = walk[head++];
+            load[of[d]] -= t->adj0[d + 1] - t->adj0[d];
+            for (uint32_t a = t->adj0[d]; a < t->adj0[d + 1]; a++) {
+                uint32_t q = (uint32_t)t->adj[a] - t->p0;
+                if (seen[q] != stamp) {
+                    seen[q] = stamp;
+                    walk[tail++] = q;
+                }
+            }
+        }
+        uint8_t best = of[i];
+        for (uint32_t h = 0; h < tail; h++)
+            if (load[of[walk[h]]] < load[best])
+                best = of[walk[h]];
+        for (uint32_t h = 0; h < tail; h++) {
+            of[walk[h]] = best;
+            load[best] += t->adj0[walk[h] + 1] - t->adj0[walk[h]];
+        }
+    }
+    return 0;
+}
+
+PSIM_TASK_SPAWN static void task_spawn_part(const psim_sim *e, dmodel *m, dtile *t, wpart *wp)
+{
+#pragma omp task default(none) firstprivate(e, m, t, wp)
+    {
+        double t0 = psim_now();
+        worklist(e, m, t, 1, wp);
+        psim_tstat_add(e->tstats, DPHASE_RESOLVE, psim_now() - t0, 1, 0);
+    }
+}
+
+/* Whether tile t's first round runs as parts: more than one thread, the
+ * only tile (no contacts across tiles) and contacts enough. */
+static int use_parts(const psim_sim *e, const dmodel *m, const dtile *t, int first)
+{
+    return first && e->threads > 1 && m->ntiles == 1 && m->nedges == 0 &&
+           t->in.n >= PARTS_MIN_CONTACTS && e->threads <= PARTS_MAX;
+}
+
+/* Tile t's first round as parts (inside the parallel region's single);
+ * 0, or -1 when out of memory (then run it as one worklist). */
+static int resolve_parts(const psim_sim *e, dmodel *m, dtile *t)
+{
+    const int parts = e->threads;
+    if (plan_parts(e, m, t, parts))
+        return -1;
+    const uint32_t n = t->p1 - t->p0;
+    wpart wp[PARTS_MAX];
+    for (int k = 0; k < parts; k++) {
+        wp[k] = (wpart){.own = m->part_of, .k = (uint8_t)k, .queue = m->part_queue + (size_t)k * n,
+                        .save = m->part_v};
+        task_spawn_part(e, m, t, &wp[k]);
+    }
+#pragma omp taskwait
+    uint64_t checks = 0, pres = 0, wres = 0;
+    int diverged = 0;
+    for (int k = 0; k < parts; k++) {
+        checks += wp[k].checks, pres += wp[k].pres, wres += wp[k].wres;
+        diverged |= wp[k].diverged;
+    }
+    if (diverged || pres + wres > m->budget) {   /* as one worklist, from the start */
+        memcpy(e->st.vx + t->p0, m->part_v, n * sizeof *m->part_v);
+        memcpy(e->st.vy + t->p0, m->part_v + n, n * sizeof *m->part_v);
+        timed_tile(e, m, t, 1);
+        return 0;
+    }
+    tile_done(t, checks, pres, wres, 0);
+    return 0;
+}
+
 /* A tile's task and an edge's (src/engine/task.h): a tile depends on its
  * own slot, an edge on both of its tiles'. */
 PSIM_TASK_SPAWN static void task_spawn_tile(const psim_sim *e, dmodel *m, dtile *t, uint32_t ti,
@@ -244,6 +406,10 @@ static uint64_t emit_round(const psim_sim *e, dmodel *m, int first)
         tasks++;
         if (!graph) {
             timed_tile(e, m, t, first);
+            continue;
+        }
+        if (use_parts(e, m, t, first) && resolve_parts(e, m, t) == 0) {
+            tasks += (uint64_t)e->threads - 1;
             continue;
         }
         task_spawn_tile(e, m, t, ti, first);
