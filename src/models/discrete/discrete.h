@@ -12,7 +12,11 @@
  *     border, depend(inout: both tiles): a fixpoint over those contacts.
  * Tasks that share a tile run in creation order, so every velocity sees the
  * same sequence of updates whatever the thread count: output is identical
- * for 1 or 64 threads.  Rounds repeat until one resolves nothing. */
+ * for 1 or 64 threads.  Rounds repeat until one resolves nothing.  One tile
+ * (the course's 10k scenes) on more threads runs its first round as parts:
+ * the components of its contact graph split among the threads, each part a
+ * worklist that pops every component's disks in the one worklist's order
+ * (resolve.c), so again the same bytes. */
 #ifndef PSIM_DISCRETE_H
 #define PSIM_DISCRETE_H
 
