@@ -64,7 +64,7 @@ static void worklist(const psim_sim *e, dmodel *m, dtile *t, int first, wpart *w
     const uint8_t *own = wp->own;
     double *save = wp->save;
     const uint32_t nt = t->p1 - t->p0;
-    wl w = {wp->queue, t->p1 - t->p0, 0, 0};
+    wl w = {wp->queue, nt, 0, 0};
     uint64_t checks = 0, pres = 0, wres = 0;
     const uint64_t budget = m->budget;
 
@@ -256,13 +256,18 @@ static void timed_edge(const psim_sim *e, dmodel *m, size_t k, int first)
  * where it gives up, and the error, do not depend on the threads. */
 #define PARTS_MIN_CONTACTS 256
 
+/* Contacts of disk d (its place in tile t) inside the tile. */
+static inline uint32_t degree(const dtile *t, uint32_t d)
+{
+    return t->adj0[d + 1] - t->adj0[d];
+}
+
 /* Each disk's part: by its store place (parts of equal size), except the
  * components that a split cuts, each of which goes whole to the part of
  * the disk it is first met from (a walk over its contacts; seen[] holds
  * the call's stamp for a disk walked). */
-static int plan_parts(const psim_sim *e, dmodel *m, const dtile *t, int parts)
+static int plan_parts(dmodel *m, const dtile *t, int parts)
 {
-    (void)e;
     const uint32_t n = t->p1 - t->p0;
     if (n > m->parts_cap || parts > m->parts_n) {   /* room for n disks and the parts */
         psim_free(m->part_seen), psim_free(m->part_of), psim_free(m->part_v), psim_free(m->part_queue);
@@ -299,7 +304,7 @@ static int plan_parts(const psim_sim *e, dmodel *m, const dtile *t, int parts)
         seen[i] = stamp;
         while (head < tail) {
             uint32_t d = walk[head++];
-            load[of[d]] -= t->adj0[d + 1] - t->adj0[d];
+            load[of[d]] -= degree(t, d);
             for (uint32_t a = t->adj0[d]; a < t->adj0[d + 1]; a++) {
                 uint32_t q = (uint32_t)t->adj[a] - t->p0;
                 if (seen[q] != stamp) {
@@ -314,7 +319,7 @@ static int plan_parts(const psim_sim *e, dmodel *m, const dtile *t, int parts)
                 best = of[walk[h]];
         for (uint32_t h = 0; h < tail; h++) {
             of[walk[h]] = best;
-            load[best] += t->adj0[walk[h] + 1] - t->adj0[walk[h]];
+            load[best] += degree(t, walk[h]);
         }
     }
     return 0;
@@ -343,7 +348,7 @@ static int use_parts(const psim_sim *e, const dmodel *m, const dtile *t, int fir
 static int resolve_parts(const psim_sim *e, dmodel *m, dtile *t)
 {
     const int parts = e->threads;
-    if (plan_parts(e, m, t, parts))
+    if (plan_parts(m, t, parts))
         return -1;
     const uint32_t n = t->p1 - t->p0;
     wpart wp[PARTS_MAX];
