@@ -193,6 +193,13 @@ int outfile_open(outfile *o, const char *path)
     int exists = stat(path, &st) == 0;
     if (exists && !S_ISREG(st.st_mode))
         return open_direct(o, path); /* a device or FIFO: no rename over it */
+    /* A rename replaces a file that may not be written (and root may write
+     * any): a file without write permission, for this user or for anyone,
+     * is kept, as a shell's '>' would keep it. */
+    if (exists && (access(path, W_OK) != 0 || !(st.st_mode & 0222))) {
+        fprintf(stderr, "psim: %s: cannot write: the file is read-only\n", path);
+        return -1;
+    }
     /* a symbolic link is followed: the file it names is replaced */
     o->path = exists ? realpath(path, NULL) : strdup(path);
     size_t len = o->path ? strlen(o->path) + 16 : 0;

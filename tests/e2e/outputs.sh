@@ -60,6 +60,15 @@ for opt in --out --trace --final --stats; do
     expect_fail --rc 2 "is the scene" "$PSIM" "$opt" "$tmp/s-link.in" "$tmp/s.in"
 done
 same_file "$tmp/s.in" "$tmp/keep.in" "the scene was changed by a refused run"
+# a read-only file is not replaced (a rename could, and root may write it)
+cp "$tmp/s.in" "$tmp/ro.in"
+chmod 444 "$tmp/ro.in"
+for opt in --out --trace --final --stats --thermo-file --dump --restart; do
+    expect_fail --rc 1 "ro.in: cannot write: the file is read-only" \
+        "$PSIM" -q --out "$tmp/ro-other" "$opt" "$tmp/ro.in"
+    [[ ! -e $tmp/ro-other ]] || fail "$opt: a refused run left another output"
+done
+same_file "$tmp/ro.in" "$tmp/keep.in" "a read-only file was replaced"
 # --final: the last state, as the trace's last step, for any model
 run_ok "$PSIM" -q --steps 3 --trace "$tmp/tr" --final "$tmp/fin" "$tmp/s.in"
 tail -n 500 "$tmp/tr" >"$tmp/tr.last"
