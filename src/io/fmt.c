@@ -657,8 +657,18 @@ void psim_io_progress(int writing, long long done, long long total)
         progress_fn(progress_ctx, writing, done, total);
 }
 
-/* Lines per chunk: a few hundred kB of text, one thread's unit of work. */
-#define CHUNK_LINES 8192L
+/* Lines per chunk: a few hundred kB of text, one thread's unit of work;
+ * fewer when that would leave threads without one (10^4 lines on two
+ * threads had been chunks of 8192 and 1808 lines), but not so few that
+ * the ordered writes cost more than the lines. */
+#define CHUNK_LINES_MAX 8192L
+#define CHUNK_LINES_MIN 1024L
+
+static long chunk_lines(long n, int threads)
+{
+    long per = threads > 1 ? (n + 4L * threads - 1) / (4L * threads) : CHUNK_LINES_MAX;
+    return per > CHUNK_LINES_MAX ? CHUNK_LINES_MAX : per < CHUNK_LINES_MIN ? CHUNK_LINES_MIN : per;
+}
 
 typedef struct linebuf {
     char *p;
@@ -690,14 +700,15 @@ int psim_write_lines(FILE *f, long n, int threads, size_t line_max, psim_line_fn
 {
     if (n <= 0)
         return 0;
-    long chunks = (n + CHUNK_LINES - 1) / CHUNK_LINES;
+    const long per = chunk_lines(n, threads);
+    long chunks = (n + per - 1) / per;
     if (threads > chunks)
         threads = (int)chunks;
     int failed = 0, err = 0;
     if (threads <= 1) {
         linebuf b = {NULL, 0};
         for (long c = 0; c < chunks && !failed; c++) {
-            long lo = c * CHUNK_LINES, hi = lo + CHUNK_LINES < n ? lo + CHUNK_LINES : n;
+            long lo = c * per, hi = lo + per < n ? lo + per : n;
             long len = make_lines(&b, lo, hi, line_max, fn, ctx);
             if (len < 0 || fwrite(b.p, 1, (size_t)len, f) != (size_t)len) {
                 failed = 1;
@@ -715,7 +726,7 @@ int psim_write_lines(FILE *f, long n, int threads, size_t line_max, psim_line_fn
             linebuf b = {NULL, 0};
 #pragma omp for ordered schedule(static, 1)
             for (long c = 0; c < chunks; c++) {
-                long lo = c * CHUNK_LINES, hi = lo + CHUNK_LINES < n ? lo + CHUNK_LINES : n;
+                long lo = c * per, hi = lo + per < n ? lo + per : n;
                 long len = make_lines(&b, lo, hi, line_max, fn, ctx);
 #pragma omp ordered
                 {
