@@ -116,7 +116,7 @@ static void destroy(void *p)
     psim_free(m->active);
     psim_free(m->flag);
     psim_free(m->nearwall);
-    psim_free(m->part_seen), psim_free(m->part_of), psim_free(m->part_v), psim_free(m->part_queue);
+    discrete_parts_free(m);
     free(m);
 }
 

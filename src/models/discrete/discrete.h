@@ -147,6 +147,7 @@ typedef struct dmodel {
 
 /* Most parts of one tile's resolution (resolve.c). */
 #define PARTS_MAX 255
+void discrete_parts_free(dmodel *m);
 
 /* A step's collisions must settle within this many resolutions (pair and
  * wall) per disk, on average over the scene (--option settle=K).  The

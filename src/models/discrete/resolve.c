@@ -45,6 +45,7 @@ typedef struct wpart {
                            * of the tile (x, then y) before its first pop */
     uint64_t checks, pres, wres;
     uint8_t diverged;
+    int tid;              /* the thread that ran it */
 } wpart;
 
 /* Worklist fixpoint over the contacts inside tile t (and its walls).
@@ -142,7 +143,7 @@ static void worklist(const psim_sim *e, dmodel *m, dtile *t, int first, wpart *w
         }
     }
     wp->checks = checks, wp->pres = pres, wp->wres = wres;
-    e->tstats[omp_get_thread_num()].wall_resolutions += wres;
+    wp->tid = omp_get_thread_num();
 }
 
 /* What a tile's worklists did, to the tile. */
@@ -157,11 +158,13 @@ static void tile_done(dtile *t, uint64_t checks, uint64_t pres, uint64_t wres, i
     t->changed_inner = (pres + wres) != 0;
 }
 
-static void tile_task(const psim_sim *e, dmodel *m, dtile *t, int first)
+/* A worklist, its time and its disks to its thread's profile. */
+static void timed_worklist(const psim_sim *e, dmodel *m, dtile *t, int first, wpart *wp,
+                           uint64_t disks)
 {
-    wpart wp = {.queue = t->queue};
-    worklist(e, m, t, first, &wp);
-    tile_done(t, wp.checks, wp.pres, wp.wres, wp.diverged);
+    double t0 = psim_now();
+    worklist(e, m, t, first, wp);
+    psim_tstat_add(e->tstats, DPHASE_RESOLVE, psim_now() - t0, 1, disks);
 }
 
 /* One pass over a list of contacts across a tile border. */
@@ -232,9 +235,10 @@ static int edge_may_change(const dmodel *m, const dedge *ed, int first)
 
 static void timed_tile(const psim_sim *e, dmodel *m, dtile *t, int first)
 {
-    double t0 = psim_now();
-    tile_task(e, m, t, first);
-    psim_tstat_add(e->tstats, DPHASE_RESOLVE, psim_now() - t0, 1, t->p1 - t->p0);
+    wpart wp = {.queue = t->queue};
+    timed_worklist(e, m, t, first, &wp, t->p1 - t->p0);
+    e->tstats[wp.tid].wall_resolutions += wp.wres;
+    tile_done(t, wp.checks, wp.pres, wp.wres, wp.diverged);
 }
 
 static void timed_edge(const psim_sim *e, dmodel *m, size_t k, int first)
@@ -262,6 +266,13 @@ static inline uint32_t degree(const dtile *t, uint32_t d)
     return t->adj0[d + 1] - t->adj0[d];
 }
 
+void discrete_parts_free(dmodel *m)
+{
+    psim_free(m->part_seen), psim_free(m->part_of), psim_free(m->part_v), psim_free(m->part_queue);
+    m->part_seen = NULL, m->part_of = NULL, m->part_v = NULL, m->part_queue = NULL;
+    m->parts_cap = 0;
+}
+
 /* Each disk's part: by its store place (parts of equal size), except the
  * components that a split cuts, each of which goes whole to the part of
  * the disk it is first met from (a walk over its contacts; seen[] holds
@@ -270,7 +281,7 @@ static int plan_parts(dmodel *m, const dtile *t, int parts)
 {
     const uint32_t n = t->p1 - t->p0;
     if (n > m->parts_cap || parts > m->parts_n) {   /* room for n disks and the parts */
-        psim_free(m->part_seen), psim_free(m->part_of), psim_free(m->part_v), psim_free(m->part_queue);
+        discrete_parts_free(m);
         m->part_seen = psim_calloc((size_t)n * sizeof *m->part_seen);
         m->part_of = psim_alloc(n);
         m->part_v = psim_alloc(2 * (size_t)n * sizeof *m->part_v);
@@ -328,11 +339,7 @@ static int plan_parts(dmodel *m, const dtile *t, int parts)
 PSIM_TASK_SPAWN static void task_spawn_part(const psim_sim *e, dmodel *m, dtile *t, wpart *wp)
 {
 #pragma omp task default(none) firstprivate(e, m, t, wp)
-    {
-        double t0 = psim_now();
-        worklist(e, m, t, 1, wp);
-        psim_tstat_add(e->tstats, DPHASE_RESOLVE, psim_now() - t0, 1, 0);
-    }
+    timed_worklist(e, m, t, 1, wp, 0);
 }
 
 /* Whether tile t's first round runs as parts: more than one thread, the
@@ -370,6 +377,8 @@ static int resolve_parts(const psim_sim *e, dmodel *m, dtile *t)
         timed_tile(e, m, t, 1);
         return 0;
     }
+    for (int k = 0; k < parts; k++)   /* (a rerun's own walls count instead) */
+        e->tstats[wp[k].tid].wall_resolutions += wp[k].wres;
     tile_done(t, checks, pres, wres, 0);
     return 0;
 }
