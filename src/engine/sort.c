@@ -6,6 +6,12 @@
 #include "timer.h"
 
 #define MAX_CHUNKS 16
+/* Stores of more particles than this are beyond a core's L2: the scatter
+ * then prefetches its streams a kilobyte ahead (the write streams too,
+ * whose places follow the read's in a nearly sorted store).  At 1e5 and
+ * 1e6 particles the sort took 0.75-0.95 of its time with them, at 1e4
+ * slightly more (docs/performance.md). */
+#define SORT_PREFETCH_MIN 65536
 
 int psim_sorter_init(psim_sorter *so, int threads, uint32_t ncells)
 {
@@ -93,8 +99,19 @@ __attribute__((noinline)) size_t psim_sort_by_cell(psim_sorter *so,
                            *restrict vy2 = st->vy2;
             const uint32_t *restrict cell = st->cell;
             const int32_t *restrict id = st->id;
+            const int far = n > SORT_PREFETCH_MIN;
             int32_t *restrict id2 = st->id2;
             for (size_t i = psim_part_lo(n, C, c); i < psim_part_lo(n, C, c + 1); i++) {
+                if (far && (i & 7) == 0) {   /* a line of each array */
+                    __builtin_prefetch(x + i + 128);
+                    __builtin_prefetch(y + i + 128);
+                    __builtin_prefetch(vx + i + 128);
+                    __builtin_prefetch(vy + i + 128);
+                    __builtin_prefetch(x2 + i + 128, 1);
+                    __builtin_prefetch(y2 + i + 128, 1);
+                    __builtin_prefetch(vx2 + i + 128, 1);
+                    __builtin_prefetch(vy2 + i + 128, 1);
+                }
                 uint32_t d = h[cell[i]]++;
                 moved += (d != i);
                 x2[d] = x[i];
