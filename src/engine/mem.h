@@ -3,8 +3,16 @@
 #ifndef PSIM_ENGINE_MEM_H
 #define PSIM_ENGINE_MEM_H
 #include <stddef.h>
+#include <stdint.h>
 
 #define PSIM_CACHELINE 64
+
+/* Prefetch the line `bytes` past p, to read (rw 0) or to write (rw 1):
+ * for streams that the hardware prefetchers do not keep far enough ahead
+ * (docs/performance.md).  The address is an integer sum, so it may lie
+ * past the end of p's array: a prefetch never faults. */
+#define PSIM_PREFETCH_AHEAD(p, bytes, rw) \
+    __builtin_prefetch((const void *)((uintptr_t)(p) + (bytes)), (rw))
 
 void *psim_alloc(size_t bytes);            /* aligned, uninitialised; NULL on failure */
 void *psim_calloc(size_t bytes);           /* aligned, zeroed */

@@ -103,14 +103,14 @@ __attribute__((noinline)) size_t psim_sort_by_cell(psim_sorter *so,
             int32_t *restrict id2 = st->id2;
             for (size_t i = psim_part_lo(n, C, c); i < psim_part_lo(n, C, c + 1); i++) {
                 if (far && (i & 7) == 0) {   /* a line of each array */
-                    __builtin_prefetch(x + i + 128);
-                    __builtin_prefetch(y + i + 128);
-                    __builtin_prefetch(vx + i + 128);
-                    __builtin_prefetch(vy + i + 128);
-                    __builtin_prefetch(x2 + i + 128, 1);
-                    __builtin_prefetch(y2 + i + 128, 1);
-                    __builtin_prefetch(vx2 + i + 128, 1);
-                    __builtin_prefetch(vy2 + i + 128, 1);
+                    PSIM_PREFETCH_AHEAD(x + i, 1024, 0);
+                    PSIM_PREFETCH_AHEAD(y + i, 1024, 0);
+                    PSIM_PREFETCH_AHEAD(vx + i, 1024, 0);
+                    PSIM_PREFETCH_AHEAD(vy + i, 1024, 0);
+                    PSIM_PREFETCH_AHEAD(x2 + i, 1024, 1);
+                    PSIM_PREFETCH_AHEAD(y2 + i, 1024, 1);
+                    PSIM_PREFETCH_AHEAD(vx2 + i, 1024, 1);
+                    PSIM_PREFETCH_AHEAD(vy2 + i, 1024, 1);
                 }
                 uint32_t d = h[cell[i]]++;
                 moved += (d != i);

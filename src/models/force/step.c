@@ -133,7 +133,7 @@ test_pairs_avx512(const double *x, const double *y, const fpair *p, size_t len, 
     const __m512d vc = _mm512_set1_pd(c2);
     const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
     for (; q + 8 <= len; q += 8) {
-        _mm_prefetch((const char *)(p + q + 128), _MM_HINT_T0);
+        PSIM_PREFETCH_AHEAD(p + q, 1024, 0);   /* the pair lists, 128 pairs on */
         __m512i pr = _mm512_loadu_si512(p + q);
         __m256i vi = _mm512_cvtepi64_epi32(pr), vj = _mm512_cvtepi64_epi32(_mm512_srli_epi64(pr, 32));
         __m512d dx = _mm512_sub_pd(_mm512_i32gather_pd(vj, x, 8), _mm512_i32gather_pd(vi, x, 8));
@@ -241,10 +241,11 @@ move_avx512(const flaw *k, const double *restrict ax, const double *restrict ay,
             mw0 = _mm512_set1_pd(*w0), mw1 = _mm512_set1_pd(*w1);
     uint32_t q = q0;
     for (; q + 8 <= q1; q += 8) {
-        _mm_prefetch((const char *)(x + q + 128), _MM_HINT_T0);
-        _mm_prefetch((const char *)(y + q + 128), _MM_HINT_T0);
-        _mm_prefetch((const char *)(vx + q + 128), _MM_HINT_T0);
-        _mm_prefetch((const char *)(vy + q + 128), _MM_HINT_T0);
+        /* 128 particles on (at 1e6 the streams come from the L3) */
+        PSIM_PREFETCH_AHEAD(x + q, 1024, 0);
+        PSIM_PREFETCH_AHEAD(y + q, 1024, 0);
+        PSIM_PREFETCH_AHEAD(vx + q, 1024, 0);
+        PSIM_PREFETCH_AHEAD(vy + q, 1024, 0);
         __m512d ux = _mm512_add_pd(_mm512_loadu_pd(vx + q),
                                    _mm512_mul_pd(_mm512_loadu_pd(ax + q), dt));
         __m512d uy = _mm512_add_pd(_mm512_loadu_pd(vy + q),
