@@ -61,31 +61,32 @@ print(j["time_s"], " ".join(f"{k}={v}" for k, v in j["phases_s"].items() if v > 
 EOF
 }
 
+# build k once, on CPU $2 (any when empty), its --stats to $tmp/s$k.json
+run_build() {
+    local k=$1 cpu=$2 out=() pin=()
+    shift 2
+    ((noout)) || out=(--out "$tmp/out$k")
+    [ -z "$cpu" ] || pin=(taskset -c "$cpu")
+    "${pin[@]}" "${bins[$k]}" -q --stats "$tmp/s$k.json" "${out[@]}" "$@" >/dev/null
+}
+
 for r in $(seq "$runs"); do
     if ((together)); then
-        out0=(--out "$tmp/out0") out1=(--out "$tmp/out1")
-        ((noout)) && out0=() out1=()
-        # which build starts first alternates too (every other pair of
-        # rounds, so each order meets each CPU): with B always second, a
-        # build run against a copy of itself gave B 0.960 of A's time
-        # (7 rounds), 1.014 with the order alternating
-        if (((r / 2) % 2)); then
-            taskset -c $(((r + 1) % 2)) "${bins[1]}" -q --stats "$tmp/s1.json" "${out1[@]}" "$@" >/dev/null &
-            taskset -c $((r % 2)) "${bins[0]}" -q --stats "$tmp/s0.json" "${out0[@]}" "$@" >/dev/null
-        else
-            taskset -c $((r % 2)) "${bins[0]}" -q --stats "$tmp/s0.json" "${out0[@]}" "$@" >/dev/null &
-            taskset -c $(((r + 1) % 2)) "${bins[1]}" -q --stats "$tmp/s1.json" "${out1[@]}" "$@" >/dev/null
-        fi
+        # build k on CPU (r + k) mod 2; which build starts first alternates
+        # too (every other pair of rounds, so each order meets each CPU):
+        # with B always second, a build run against a copy of itself gave
+        # B 0.960 of A's time (7 rounds), 1.014 with the order alternating
+        first=$(((r / 2) % 2))
+        run_build "$first" $(((r + first) % 2)) "$@" &
+        run_build $((1 - first)) $(((r + 1 - first) % 2)) "$@"
         wait $! || exit 1
         stats_line "$tmp/s0.json" >>"$tmp/runs0"
         stats_line "$tmp/s1.json" >>"$tmp/runs1"
         continue
     fi
     for k in "${!bins[@]}"; do
-        out=(--out "$tmp/out$k")
-        ((noout)) && out=()
-        "${bins[$k]}" -q --stats "$tmp/s.json" "${out[@]}" "$@" >/dev/null
-        stats_line "$tmp/s.json" >>"$tmp/runs$k"
+        run_build "$k" "" "$@"
+        stats_line "$tmp/s$k.json" >>"$tmp/runs$k"
     done
 done
 if ((noout)); then   # the bytes, from one more round with --out
