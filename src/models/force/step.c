@@ -229,7 +229,7 @@ static int tile_sum(const psim_store *s, ftile *t, facc *acc)
  * in the same order: the same bits), from q0 while eight are left; the
  * extents into *m .. *w1.  Returns where it stopped. */
 __attribute__((target("avx512f"))) static uint32_t
-move_avx512(const flaw *k, const double *restrict ax, const double *restrict ay,
+move_avx512(const flaw *k, double *restrict ax, double *restrict ay, uint32_t *restrict cnt,
             double *restrict x, double *restrict y, double *restrict vx, double *restrict vy,
             uint32_t q0, uint32_t q1, double *m, double *lo, double *hi, double *u0, double *u1,
             double *w0, double *w1, double v2fast, uint64_t *fast)
@@ -250,6 +250,9 @@ move_avx512(const flaw *k, const double *restrict ax, const double *restrict ay,
                                    _mm512_mul_pd(_mm512_loadu_pd(ax + q), dt));
         __m512d uy = _mm512_add_pd(_mm512_loadu_pd(vy + q),
                                    _mm512_mul_pd(_mm512_loadu_pd(ay + q), dt));
+        _mm512_storeu_pd(ax + q, _mm512_setzero_pd());   /* zero for the next step */
+        _mm512_storeu_pd(ay + q, _mm512_setzero_pd());
+        _mm256_storeu_si256((__m256i *)(cnt + q), _mm256_setzero_si256());
         __m512d nx = _mm512_add_pd(_mm512_loadu_pd(x + q), _mm512_mul_pd(ux, dt));
         __m512d ny = _mm512_add_pd(_mm512_loadu_pd(y + q), _mm512_mul_pd(uy, dt));
         _mm512_storeu_pd(vx + q, ux), _mm512_storeu_pd(vy + q, uy);
@@ -273,18 +276,19 @@ move_avx512(const flaw *k, const double *restrict ax, const double *restrict ay,
 }
 #endif
 
-static int move_chunk(const flaw *law, ftile *t, const facc *acc, double *restrict x,
+static int move_chunk(const flaw *law, ftile *t, facc *acc, double *restrict x,
                       double *restrict y, double *restrict vx, double *restrict vy, uint32_t q0,
                       uint32_t q1, int simd, double v2fast, uint64_t *fast)
 {
     const flaw kl = *law, *k = &kl;   /* a copy: no store can change it */
-    const double *restrict ax = acc->ax, *restrict ay = acc->ay;
+    double *restrict ax = acc->ax, *restrict ay = acc->ay;
+    uint32_t *restrict cnt = acc->cnt;
     double m = t->v2max, lo = 0, hi = k->size, u0 = t->u0, u1 = t->u1, w0 = t->w0, w1 = t->w1;
     uint32_t q = q0;
     *fast = 0;
 #if PSIM_AVX512
     if (simd)
-        q = move_avx512(k, ax, ay, x, y, vx, vy, q0, q1, &m, &lo, &hi, &u0, &u1, &w0, &w1,
+        q = move_avx512(k, ax, ay, cnt, x, y, vx, vy, q0, q1, &m, &lo, &hi, &u0, &u1, &w0, &w1,
                         v2fast, fast);
 #endif
 #ifdef __SSE2__
@@ -294,6 +298,8 @@ static int move_chunk(const flaw *law, ftile *t, const facc *acc, double *restri
     for (; q + 2 <= q1; q += 2) {
         __m128d ux = _mm_add_pd(_mm_loadu_pd(vx + q), _mm_mul_pd(_mm_loadu_pd(ax + q), dt));
         __m128d uy = _mm_add_pd(_mm_loadu_pd(vy + q), _mm_mul_pd(_mm_loadu_pd(ay + q), dt));
+        _mm_storeu_pd(ax + q, _mm_setzero_pd()), _mm_storeu_pd(ay + q, _mm_setzero_pd());
+        cnt[q] = cnt[q + 1] = 0;
         __m128d nx = _mm_add_pd(_mm_loadu_pd(x + q), _mm_mul_pd(ux, dt));
         __m128d ny = _mm_add_pd(_mm_loadu_pd(y + q), _mm_mul_pd(uy, dt));
         _mm_storeu_pd(vx + q, ux), _mm_storeu_pd(vy + q, uy);
@@ -317,6 +323,8 @@ static int move_chunk(const flaw *law, ftile *t, const facc *acc, double *restri
 #endif
     for (; q < q1; q++) {
         double ux = flaw_kick(k, vx[q], ax[q]), uy = flaw_kick(k, vy[q], ay[q]);
+        ax[q] = ay[q] = 0;
+        cnt[q] = 0;
         double nx = flaw_drift(k, x[q], ux), ny = flaw_drift(k, y[q], uy);
         vx[q] = ux, vy[q] = uy, x[q] = nx, y[q] = ny;
         double v2 = ux * ux + uy * uy;
@@ -429,11 +437,6 @@ static void tile_integrate(const fmodel *m, psim_store *s, ftile *t)
             t->oom = 1;
             break;
         }
-    }
-    for (size_t r = 0; r < t->nrec; r++) {   /* zero again for the next step */
-        uint32_t q = t->rec[r].owner - f;
-        acc->ax[q] = acc->ay[q] = 0;
-        acc->cnt[q] = 0;
     }
     acc_give(m->acc, acc);
     t->lost = lost;
