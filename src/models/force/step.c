@@ -220,9 +220,11 @@ static int tile_sum(const psim_store *s, ftile *t, facc *acc)
  * and drifts two at a time, with the largest squared speed and the
  * velocities' extent (into the tile: bounds for the lists) and whether
  * one is outside [0, size]^2 (NaN left out of all three, as the course's
- * comparisons leave it), in one pass; then
- * the reflections (rare: a particle that crossed a wall), in a chunk that
- * has one.  Returns whether one left the box for good. */
+ * comparisons leave it), in one pass that also zeroes the accelerations
+ * and counts it has read, for the next step (cheaper than zeroing them a
+ * force record at a time); then the reflections (rare: a particle that
+ * crossed a wall), in a chunk that has one.  Returns whether one left the
+ * box for good. */
 #define MOVE_CHUNK 64   /* a bit of a 64-bit word each (the fast particles) */
 #if PSIM_AVX512
 /* The kicks and drifts of move_chunk eight at a time (the same operations
