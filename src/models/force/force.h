@@ -111,6 +111,7 @@ typedef struct ftile {
     double tf, ti;          /* this step: seconds in its force, its integrate */
     uint32_t *fast;         /* its fast particles (m->v2fast) since the build */
     double *fastd;          /* their paths: a bound on each one's displacement */
+    double *fastx, *fasty;  /* their positions after this step's move */
     size_t nfast, fastcap;
     int lost;               /* a particle left the box for good */
     int oom;
@@ -161,8 +162,8 @@ typedef struct fmodel {
     size_t fs_cap;
     uint8_t *is_fast;       /* n: a fast particle since the build */
     long nis_fast;
-    uint32_t *fp_i;         /* this step's fast particles (step.c) */
-    double *fp_d;
+    double *fp_x, *fp_y;    /* this step's fast particles: positions, */
+    double *fp_d;           /* paths (step.c) */
     int32_t *fp_next;       /* the next in the same cell (-1: none) */
     size_t fp_cap;
     uint64_t *fh_key;       /* a hash of their cells: key, first particle */

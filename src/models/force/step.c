@@ -402,9 +402,11 @@ static int join_fast(const fmodel *m, ftile *t, uint32_t q0, uint64_t fast)
         uint32_t q = q0 + (uint32_t)__builtin_ctzll(fast);
         if (m->is_fast[q])
             continue;
-        size_t c2 = t->fastcap;
+        size_t c2 = t->fastcap, c3 = t->fastcap, c4 = t->fastcap;
         if (t->nfast == t->fastcap &&
             (psim_reserve((void **)&t->fastd, &c2, t->nfast + 1, sizeof *t->fastd) ||
+             psim_reserve((void **)&t->fastx, &c3, t->nfast + 1, sizeof *t->fastx) ||
+             psim_reserve((void **)&t->fasty, &c4, t->nfast + 1, sizeof *t->fasty) ||
              psim_reserve((void **)&t->fast, &t->fastcap, t->nfast + 1, sizeof *t->fast)))
             return -1;
         m->is_fast[q] = 1;
@@ -412,6 +414,20 @@ static int join_fast(const fmodel *m, ftile *t, uint32_t q0, uint64_t fast)
         t->fastd[t->nfast++] = m->slow;
     }
     return 0;
+}
+
+/* The tile's fast particles after its move: each one's path grows by its
+ * speed times dt, and its position is kept for fast_pairs, here where
+ * both are still in the cache (the step's end read them scattered over
+ * the store, on one thread). */
+static void tile_fast_paths(const fmodel *m, const psim_store *s, ftile *t)
+{
+    for (size_t k = 0; k < t->nfast; k++) {
+        uint32_t q = t->fast[k];
+        t->fastd[k] += sqrt(s->vx[q] * s->vx[q] + s->vy[q] * s->vy[q]) * m->law.dt;
+        t->fastx[k] = s->x[q];
+        t->fasty[k] = s->y[q];
+    }
 }
 
 /* Sum and move the tile's particles in place (the forces of its sources,
@@ -440,6 +456,7 @@ static void tile_integrate(const fmodel *m, psim_store *s, ftile *t)
             break;
         }
     }
+    tile_fast_paths(m, s, t);
     acc_give(m->acc, acc);
     t->lost = lost;
 }
@@ -572,9 +589,10 @@ static double fast_pairs(fmodel *m, const psim_store *s, size_t nf, double p1, d
     int shift = 60;
     while (size < 2 * nf)
         size *= 2, shift--;
-    size_t c1 = m->fp_cap, c2 = m->fp_cap, c3 = m->fh_cap;
+    size_t c1 = m->fp_cap, c2 = m->fp_cap, c3 = m->fh_cap, c4 = m->fp_cap;
     if ((double)nf > FORCE_FAST_MAX_SHARE * (double)s->n ||
-        psim_reserve((void **)&m->fp_i, &c1, nf, sizeof *m->fp_i) ||
+        psim_reserve((void **)&m->fp_x, &c1, nf, sizeof *m->fp_x) ||
+        psim_reserve((void **)&m->fp_y, &c4, nf, sizeof *m->fp_y) ||
         psim_reserve((void **)&m->fp_d, &c2, nf, sizeof *m->fp_d) ||
         psim_reserve((void **)&m->fp_next, &m->fp_cap, nf, sizeof *m->fp_next) ||
         psim_reserve((void **)&m->fh_key, &c3, size, sizeof *m->fh_key) ||
@@ -594,11 +612,11 @@ static double fast_pairs(fmodel *m, const psim_store *s, size_t nf, double p1, d
     size_t k = 0;
     for (uint32_t t = 0; t < m->ntiles; t++)
         for (size_t f = 0; f < m->tiles[t].nfast; f++, k++) {
-            uint32_t q = m->tiles[t].fast[f];
-            double cx = floor(s->x[q] * inv), cy = floor(s->y[q] * inv);
+            double px = m->tiles[t].fastx[f], py = m->tiles[t].fasty[f];
+            double cx = floor(px * inv), cy = floor(py * inv);
             if (!(fabs(cx) < 1e6 && fabs(cy) < 1e6))   /* not finite, or far out */
                 return p1 + second;
-            m->fp_i[k] = q;
+            m->fp_x[k] = px, m->fp_y[k] = py;
             m->fp_d[k] = m->tiles[t].fastd[f];
             size_t h = fast_slot(m, fast_key((int64_t)cx, (int64_t)cy));
             m->fh_key[h] = fast_key((int64_t)cx, (int64_t)cy);
@@ -609,16 +627,15 @@ static double fast_pairs(fmodel *m, const psim_store *s, size_t nf, double p1, d
     for (k = 0; k < nf; k++) {
         if (!(m->fp_d[k] >= half))
             continue;
-        uint32_t i = m->fp_i[k];
-        int64_t cx = (int64_t)floor(s->x[i] * inv), cy = (int64_t)floor(s->y[i] * inv);
+        const double xi = m->fp_x[k], yi = m->fp_y[k];
+        int64_t cx = (int64_t)floor(xi * inv), cy = (int64_t)floor(yi * inv);
         for (int64_t dy = -1; dy <= 1; dy++)
             for (int64_t dx = -1; dx <= 1; dx++) {
                 size_t h = fast_slot(m, fast_key(cx + dx, cy + dy));
                 for (int32_t l = m->fh_head[h]; l >= 0; l = m->fp_next[l]) {
                     if ((size_t)l == k || ((size_t)l < k && m->fp_d[l] >= half))
                         continue;   /* itself, or a pair met from l */
-                    uint32_t j = m->fp_i[l];
-                    double ex = s->x[j] - s->x[i], ey = s->y[j] - s->y[i];
+                    double ex = m->fp_x[l] - xi, ey = m->fp_y[l] - yi;
                     double d = m->fp_d[k] + m->fp_d[l];
                     if (!(ex * ex + ey * ey > m->law.cutoff2) && d > most)
                         most = d;
@@ -652,8 +669,7 @@ static void tiles_drift(fmodel *m, const psim_store *s)
         most = ft->drift > most ? ft->drift : most;
         nf += ft->nfast;
         for (size_t k = 0; k < ft->nfast; k++) {
-            uint32_t q = ft->fast[k];
-            double d = ft->fastd[k] += sqrt(s->vx[q] * s->vx[q] + s->vy[q] * s->vy[q]) * m->law.dt;
+            double d = ft->fastd[k];   /* grown by the tile's move (tile_fast_paths) */
             if (d > p1)
                 p2 = p1, p1 = d;
             else if (d > p2)
