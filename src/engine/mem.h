@@ -14,6 +14,23 @@
 #define PSIM_PREFETCH_AHEAD(p, bytes, rw) \
     __builtin_prefetch((const void *)((uintptr_t)(p) + (bytes)), (rw))
 
+/* Read one word of each cache line of the n doubles at a: plain loads,
+ * which bring the lines into the cache before scattered reads (gathers)
+ * need them.  Software prefetches of the same lines, issued ahead in a
+ * loop, are dropped once the core's miss buffers are full (an AMD EPYC
+ * VM: the force model's pair tests 30% slower with them than with these
+ * loads, docs/performance.md, "Fourteenth pass"). */
+static inline void psim_touch(const double *a, size_t n)
+{
+    uint64_t sum = 0;
+    for (size_t q = 0; q < n; q += PSIM_CACHELINE / sizeof *a) {
+        uint64_t v;
+        __builtin_memcpy(&v, a + q, sizeof v);
+        sum ^= v;
+    }
+    __asm__ volatile("" : : "r"(sum));   /* kept: nothing else reads it */
+}
+
 void *psim_alloc(size_t bytes);            /* aligned, uninitialised; NULL on failure */
 void *psim_calloc(size_t bytes);           /* aligned, zeroed */
 void psim_free(void *p);

@@ -540,6 +540,8 @@ static int list_tile(const psim_sim *e, ftile *t, uint32_t tile, const double *t
     if (plan_window(e, t, tile) || reserve_rows(t))
         return -1;
     int S = t->W - 2;
+    psim_touch(e->st.x + t->first, t->n);   /* the rows' lines, in order */
+    psim_touch(e->st.y + t->first, t->n);
     fill(&e->st, t, 0, simd);
     fill(&e->st, t, 1, simd);
     for (int ly = 1; ly <= S; ly++) {

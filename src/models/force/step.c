@@ -156,6 +156,8 @@ static void tile_force(const fmodel *m, psim_store *s, ftile *t)
     const double *x = s->x, *y = s->y, c2 = m->law.cutoff2;
     tile_reset(t);
     t->nrec = t->nout = 0;
+    psim_touch(x + t->first, t->n);   /* the gathers' lines, in order */
+    psim_touch(y + t->first, t->n);
     for (int b = 0; b < nb; b++) {
         const fpair *p = t->pair[b];
         size_t len = t->len[b], nh;
