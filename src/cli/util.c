@@ -6,6 +6,7 @@
 #include <string.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <hwloc.h>
@@ -68,8 +69,8 @@ static char **main_argv;
 
 void cli_set_argv(char **argv) { main_argv = argv; }
 
-/* Threads that were runnable on the machine a moment ago, psim's own
- * included (/proc/stat's procs_running); -1 if unknown. */
+/* Threads runnable on the machine now, psim's own included (/proc/stat's
+ * procs_running); -1 if unknown. */
 static long runnable_now(void)
 {
     FILE *f = fopen("/proc/stat", "r");
@@ -84,6 +85,32 @@ static long runnable_now(void)
     return n;
 }
 
+/* The fewest threads runnable, psim's own included, in up to WAIT_SAMPLES
+ * looks WAIT_GAP_NS apart (5 ms in all), stopping at the first that shows
+ * at most `room`: threads that stay runnable, as another program's busy
+ * ones do, and not those that are for a moment, as the shell that has just
+ * started psim, the other commands of its pipeline starting beside it, or
+ * the kernel's threads that clear up after the program before (one look
+ * saw one to three of those more often than not, and two threads waiting
+ * passively took 1.3-1.5 times as long on a quiet machine: docs/design.md);
+ * one look when even psim alone is too many; -1 if unknown. */
+#define WAIT_SAMPLES 20
+#define WAIT_GAP_NS 250000L
+static long runnable_steadily(long room)
+{
+    long least = -1;
+    const int looks = room >= 1 ? WAIT_SAMPLES : 1;   /* psim alone is 1 */
+    for (int k = 0; k < looks && !(least >= 0 && least <= room); k++) {
+        if (k > 0)
+            nanosleep(&(struct timespec){0, WAIT_GAP_NS}, NULL);
+        long n = runnable_now();
+        if (n < 0)
+            return -1;
+        least = least < 0 || n < least ? n : least;
+    }
+    return least;
+}
+
 const char *cli_wait_note(void) { return getenv("PSIM_WAIT_NOTE"); }
 
 void cli_choose_wait_policy(int threads)
@@ -91,8 +118,8 @@ void cli_choose_wait_policy(int threads)
     if (threads <= 1 || !main_argv || getenv("OMP_WAIT_POLICY") || getenv("GOMP_SPINCOUNT"))
         return;
     cpu_set_t cpus;
-    long others = runnable_now() - 1;
     int cores = sched_getaffinity(0, sizeof cpus, &cpus) == 0 ? CPU_COUNT(&cpus) : 0;
+    long others = cores > 0 ? runnable_steadily(cores - threads + 1) - 1 : -1;
     if (others < 0 || cores <= 0 || others + threads <= cores)
         return;   /* room for every thread: waiting threads may spin */
     /* Shared: a spinning thread would take the core that the thread it
