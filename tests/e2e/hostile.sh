@@ -43,17 +43,10 @@ same_file "$tmp/t.1" "$tmp/t.3,1" "OMP_NUM_THREADS 1 vs 3,1"
 # With every core busy, a 2-thread run starts again with passive waiting
 # and says so; the user's own OMP_WAIT_POLICY is kept; the bytes are the
 # same whatever the policy.
-cores=$(nproc)
-hogs=()
-for ((c = 0; c < cores; c++)); do
-    timeout 20 sh -c 'while :; do :; done' &
-    hogs+=($!)
-done
-sleep 0.2
+start_hogs
 run_ok "$PSIM" --threads 2 --trace "$tmp/w.busy" "$tmp/s.in" >"$tmp/w.busy.txt"
 run_ok env OMP_WAIT_POLICY=active "$PSIM" --threads 2 --trace "$tmp/w.user" "$tmp/s.in" >"$tmp/w.user.txt"
-kill "${hogs[@]}" 2>/dev/null || true
-wait "${hogs[@]}" 2>/dev/null || true
+stop_hogs
 grep -q "OpenMP wait policy passive (machine shared" "$tmp/w.busy.txt" ||
     fail "a busy machine: no passive wait policy in the summary: $(cat "$tmp/w.busy.txt")"
 if grep -q "OpenMP wait policy" "$tmp/w.user.txt"; then

@@ -79,3 +79,23 @@ gen()
     run_ok "$PSIM" gen --out "$out" "$@"
     [[ -s $out ]] || fail "psim gen wrote no scene to $out"
 }
+
+# start_hogs: one busy process per core (20 s at most each), their pids in
+# HOGS, after which the machine has settled for 0.2 s; stop_hogs ends them.
+HOGS=()
+start_hogs()
+{
+    local c cores
+    cores=$(nproc)
+    for ((c = 0; c < cores; c++)); do
+        timeout 20 sh -c 'while :; do :; done' &
+        HOGS+=($!)
+    done
+    sleep 0.2
+}
+stop_hogs()
+{
+    kill "${HOGS[@]}" 2>/dev/null || true
+    wait "${HOGS[@]}" 2>/dev/null || true
+    HOGS=()
+}

@@ -31,15 +31,9 @@ for try in 1 2 3 4 5 6; do
 done
 ((spun >= 5)) || fail "a quiet machine: $((6 - spun)) of 6 runs in a pipeline chose passive waiting:$notes"
 # and a machine kept busy on every core still makes it passive
-hogs=()
-for ((c = 0; c < cores; c++)); do
-    timeout 20 sh -c 'while :; do :; done' &
-    hogs+=($!)
-done
-sleep 0.2
+start_hogs
 "$PSIM" --threads 2 "$tmp/s.in" | cat >"$tmp/w.busy.txt"
-kill "${hogs[@]}" 2>/dev/null || true
-wait "${hogs[@]}" 2>/dev/null || true
+stop_hogs
 grep -q "OpenMP wait policy passive (machine shared" "$tmp/w.busy.txt" ||
     fail "a busy machine, in a pipeline: no passive wait policy: $(cat "$tmp/w.busy.txt")"
 echo "ok: spinning on a quiet machine ($spun of 6), passive on a busy one"
