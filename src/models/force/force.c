@@ -70,7 +70,7 @@ static void destroy(void *p)
             psim_free(t_->pair[b]);
         psim_free(t_->rx), psim_free(t_->ry), psim_free(t_->rj), psim_free(t_->win), psim_free(t_->fx);
         psim_free(t_->stage_pair), psim_free(t_->stage_d2);
-        psim_free(t_->fast), psim_free(t_->fastd), psim_free(t_->fastx), psim_free(t_->fasty);
+        psim_free(t_->fast);
         psim_free(t_->hit), psim_free(t_->rec), psim_free(t_->out), psim_free(t_->slow);
     }
     for (int k = 0; m->acc && k < m->acc->n; k++) {
@@ -82,7 +82,7 @@ static void destroy(void *p)
     free(m->acc);
     free(m->sweep);
     psim_free(m->is_fast), psim_free(m->fs_v2);
-    psim_free(m->fp_x), psim_free(m->fp_y), psim_free(m->fp_d), psim_free(m->fp_next);
+    psim_free(m->fp), psim_free(m->fp_next);
     psim_free(m->fh_key), psim_free(m->fh_head);
     free(m->tiles);
     free(m);

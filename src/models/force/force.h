@@ -68,6 +68,14 @@ typedef struct frec {
     double fx, fy;
 } frec;
 
+/* A fast particle of a tile (fmodel.v2fast): its store place, its path
+ * since the build (a bound on its displacement) and its position after
+ * this step's move. */
+typedef struct ffast {
+    uint32_t q;
+    double d, x, y;
+} ffast;
+
 /* A tile: its particles are store places first .. first + n - 1, its
  * pairs those found from its cells (the other particle may belong to a
  * neighbouring tile). */
@@ -109,9 +117,7 @@ typedef struct ftile {
     double dmin, dsum;      /* --force-stats: nearest distance / cutoff, sum */
     uint64_t dn;
     double tf, ti;          /* this step: seconds in its force, its integrate */
-    uint32_t *fast;         /* its fast particles (m->v2fast) since the build */
-    double *fastd;          /* their paths: a bound on each one's displacement */
-    double *fastx, *fasty;  /* their positions after this step's move */
+    ffast *fast;            /* its fast particles since the build */
     size_t nfast, fastcap;
     int lost;               /* a particle left the box for good */
     int oom;
@@ -155,15 +161,14 @@ typedef struct fmodel {
                              * the largest tile drift, or from the fast
                              * particles' paths, the least (step.c) */
     double v2fast;          /* a particle faster than this is "fast": its
-                             * path is summed (tile->fastd); every other
+                             * path is summed (ffast.d); every other
                              * has moved at most `slow` since the build */
     double slow;
     double *fs_v2;          /* a sample of squared speeds (nlist.c) */
     size_t fs_cap;
     uint8_t *is_fast;       /* n: a fast particle since the build */
     long nis_fast;
-    double *fp_x, *fp_y;    /* this step's fast particles: positions, */
-    double *fp_d;           /* paths (step.c) */
+    ffast *fp;              /* this step's fast particles (step.c) */
     int32_t *fp_next;       /* the next in the same cell (-1: none) */
     size_t fp_cap;
     uint64_t *fh_key;       /* a hash of their cells: key, first particle */

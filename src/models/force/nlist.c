@@ -631,7 +631,7 @@ static int restart_fast(const psim_sim *e, fmodel *m)
     for (uint32_t t = 0; t < m->cap_tiles; t++) {
         ftile *ft = &m->tiles[t];
         for (size_t k = 0; k < ft->nfast; k++)
-            m->is_fast[ft->fast[k]] = 0;
+            m->is_fast[ft->fast[k].q] = 0;
         ft->nfast = 0;
         ft->drift = 0;
     }

@@ -404,16 +404,11 @@ static int join_fast(const fmodel *m, ftile *t, uint32_t q0, uint64_t fast)
         uint32_t q = q0 + (uint32_t)__builtin_ctzll(fast);
         if (m->is_fast[q])
             continue;
-        size_t c2 = t->fastcap, c3 = t->fastcap, c4 = t->fastcap;
         if (t->nfast == t->fastcap &&
-            (psim_reserve((void **)&t->fastd, &c2, t->nfast + 1, sizeof *t->fastd) ||
-             psim_reserve((void **)&t->fastx, &c3, t->nfast + 1, sizeof *t->fastx) ||
-             psim_reserve((void **)&t->fasty, &c4, t->nfast + 1, sizeof *t->fasty) ||
-             psim_reserve((void **)&t->fast, &t->fastcap, t->nfast + 1, sizeof *t->fast)))
+            psim_reserve((void **)&t->fast, &t->fastcap, t->nfast + 1, sizeof *t->fast))
             return -1;
         m->is_fast[q] = 1;
-        t->fast[t->nfast] = q;
-        t->fastd[t->nfast++] = m->slow;
+        t->fast[t->nfast++] = (ffast){.q = q, .d = m->slow};
     }
     return 0;
 }
@@ -425,10 +420,10 @@ static int join_fast(const fmodel *m, ftile *t, uint32_t q0, uint64_t fast)
 static void tile_fast_paths(const fmodel *m, const psim_store *s, ftile *t)
 {
     for (size_t k = 0; k < t->nfast; k++) {
-        uint32_t q = t->fast[k];
-        t->fastd[k] += sqrt(s->vx[q] * s->vx[q] + s->vy[q] * s->vy[q]) * m->law.dt;
-        t->fastx[k] = s->x[q];
-        t->fasty[k] = s->y[q];
+        ffast *f = &t->fast[k];
+        f->d += sqrt(s->vx[f->q] * s->vx[f->q] + s->vy[f->q] * s->vy[f->q]) * m->law.dt;
+        f->x = s->x[f->q];
+        f->y = s->y[f->q];
     }
 }
 
@@ -591,11 +586,9 @@ static double fast_pairs(fmodel *m, const psim_store *s, size_t nf, double p1, d
     int shift = 60;
     while (size < 2 * nf)
         size *= 2, shift--;
-    size_t c1 = m->fp_cap, c2 = m->fp_cap, c3 = m->fh_cap, c4 = m->fp_cap;
+    size_t c1 = m->fp_cap, c3 = m->fh_cap;
     if ((double)nf > FORCE_FAST_MAX_SHARE * (double)s->n ||
-        psim_reserve((void **)&m->fp_x, &c1, nf, sizeof *m->fp_x) ||
-        psim_reserve((void **)&m->fp_y, &c4, nf, sizeof *m->fp_y) ||
-        psim_reserve((void **)&m->fp_d, &c2, nf, sizeof *m->fp_d) ||
+        psim_reserve((void **)&m->fp, &c1, nf, sizeof *m->fp) ||
         psim_reserve((void **)&m->fp_next, &m->fp_cap, nf, sizeof *m->fp_next) ||
         psim_reserve((void **)&m->fh_key, &c3, size, sizeof *m->fh_key) ||
         psim_reserve((void **)&m->fh_head, &m->fh_cap, size, sizeof *m->fh_head))
@@ -614,12 +607,11 @@ static double fast_pairs(fmodel *m, const psim_store *s, size_t nf, double p1, d
     size_t k = 0;
     for (uint32_t t = 0; t < m->ntiles; t++)
         for (size_t f = 0; f < m->tiles[t].nfast; f++, k++) {
-            double px = m->tiles[t].fastx[f], py = m->tiles[t].fasty[f];
-            double cx = floor(px * inv), cy = floor(py * inv);
+            const ffast *p = &m->tiles[t].fast[f];
+            double cx = floor(p->x * inv), cy = floor(p->y * inv);
             if (!(fabs(cx) < 1e6 && fabs(cy) < 1e6))   /* not finite, or far out */
                 return p1 + second;
-            m->fp_x[k] = px, m->fp_y[k] = py;
-            m->fp_d[k] = m->tiles[t].fastd[f];
+            m->fp[k] = *p;
             size_t h = fast_slot(m, fast_key((int64_t)cx, (int64_t)cy));
             m->fh_key[h] = fast_key((int64_t)cx, (int64_t)cy);
             m->fp_next[k] = m->fh_head[h];
@@ -627,18 +619,18 @@ static double fast_pairs(fmodel *m, const psim_store *s, size_t nf, double p1, d
         }
     double most = 0;
     for (k = 0; k < nf; k++) {
-        if (!(m->fp_d[k] >= half))
+        if (!(m->fp[k].d >= half))
             continue;
-        const double xi = m->fp_x[k], yi = m->fp_y[k];
+        const double xi = m->fp[k].x, yi = m->fp[k].y;
         int64_t cx = (int64_t)floor(xi * inv), cy = (int64_t)floor(yi * inv);
         for (int64_t dy = -1; dy <= 1; dy++)
             for (int64_t dx = -1; dx <= 1; dx++) {
                 size_t h = fast_slot(m, fast_key(cx + dx, cy + dy));
                 for (int32_t l = m->fh_head[h]; l >= 0; l = m->fp_next[l]) {
-                    if ((size_t)l == k || ((size_t)l < k && m->fp_d[l] >= half))
+                    if ((size_t)l == k || ((size_t)l < k && m->fp[l].d >= half))
                         continue;   /* itself, or a pair met from l */
-                    double ex = m->fp_x[l] - xi, ey = m->fp_y[l] - yi;
-                    double d = m->fp_d[k] + m->fp_d[l];
+                    double ex = m->fp[l].x - xi, ey = m->fp[l].y - yi;
+                    double d = m->fp[k].d + m->fp[l].d;
                     if (!(ex * ex + ey * ey > m->law.cutoff2) && d > most)
                         most = d;
                 }
@@ -671,7 +663,7 @@ static void tiles_drift(fmodel *m, const psim_store *s)
         most = ft->drift > most ? ft->drift : most;
         nf += ft->nfast;
         for (size_t k = 0; k < ft->nfast; k++) {
-            double d = ft->fastd[k];   /* grown by the tile's move (tile_fast_paths) */
+            double d = ft->fast[k].d;   /* grown by the tile's move (tile_fast_paths) */
             if (d > p1)
                 p2 = p1, p1 = d;
             else if (d > p2)
