@@ -120,8 +120,8 @@ void cli_choose_wait_policy(int threads)
     cpu_set_t cpus;
     int cores = sched_getaffinity(0, sizeof cpus, &cpus) == 0 ? CPU_COUNT(&cpus) : 0;
     long others = cores > 0 ? runnable_steadily(cores - threads + 1) - 1 : -1;
-    if (others < 0 || cores <= 0 || others + threads <= cores)
-        return;   /* room for every thread: waiting threads may spin */
+    if (others < 0 || others + threads <= cores)   /* unknown (-1), or room */
+        return;   /* waiting threads may spin */
     /* Shared: a spinning thread would take the core that the thread it
      * waits for needs.  The OpenMP runtime reads its wait policy when it
      * is loaded, so psim starts again with it set (the scene is not read
