@@ -26,7 +26,7 @@ typedef struct psim_snapshot {
 } psim_snapshot;
 
 #define PSIM_MODEL_PHASES (PSIM_PHASES_MAX - PSIM_PHASE_MODEL)
-#define PSIM_MODEL_OPTIONS 8
+#define PSIM_MODEL_OPTIONS 12
 
 /* A model option (--option NAME=VALUE): a number in [lo, hi]. */
 typedef struct psim_model_option {

@@ -12,6 +12,12 @@
  * 1e6 particles the sort took 0.75-0.95 of its time with them, at 1e4
  * slightly more (docs/performance.md). */
 #define SORT_PREFETCH_MIN 65536
+/* Particles a thread, at least: the sort takes 10-20 ns a particle, and a
+ * parallel region with its four barriers some tens of microseconds on 16
+ * threads of a VM (1e4 particles sorted twice as slowly on 16 threads as
+ * on one: docs/performance.md, "Sixteen threads").  The order is the same
+ * for any number of threads. */
+#define SORT_GRAIN 8192
 
 int psim_sorter_init(psim_sorter *so, int threads, uint32_t ncells)
 {
@@ -38,8 +44,10 @@ __attribute__((noinline)) size_t psim_sort_by_cell(psim_sorter *so,
     const uint32_t B = so->ncells;
     const size_t n = st->n;
     size_t moved = 0;
+    size_t most = n / SORT_GRAIN > 0 ? n / SORT_GRAIN : 1;
+    const int team = (size_t)threads < most ? threads : (int)most;
 
-#pragma omp parallel num_threads(threads) reduction(+ : moved)
+#pragma omp parallel num_threads(team) if (team > 1) reduction(+ : moved)
     {
         /* 1. cell of every particle, counted per chunk of particles */
 #pragma omp for schedule(static)

@@ -162,6 +162,21 @@ for mode in fast naive; do
 done
 same_file "$tmp/t1.fast.out" "$tmp/t1.naive.out" "n 2000: fast path vs --naive"
 format "$tmp/t1.fast.out" 2000 10
+# a step's rounds as tasks, a static loop or a dynamic one: the same bytes
+# (the default is one of them: its tasks counter tells which)
+for r in 0 1 2; do
+    for t in 2 3; do
+        force "r$r.$t" -n 2000 --seed 3 --steps 100 --threads "$t" --option "rounds=$r" \
+            --stats "$tmp/r$r.$t.json"
+        same_file "$tmp/t1.fast.out" "$tmp/r$r.$t.out" "rounds=$r, $t threads vs 1 thread"
+    done
+done
+# the option takes effect: tasks for the rounds with rounds=0 only
+tasks() { python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["tasks"])' "$1"; }
+(($(tasks "$tmp/r0.2.json") > $(tasks "$tmp/r1.2.json"))) ||
+    fail "rounds=0 ran no more tasks than rounds=1: $(tasks "$tmp/r0.2.json") vs $(tasks "$tmp/r1.2.json")"
+(($(tasks "$tmp/r2.3.json") == $(tasks "$tmp/r1.3.json"))) ||
+    fail "rounds=2 and rounds=1 counted different tasks"
 
 # --- many tiles, and particles with many forces at once ---------------------------
 # Tiles of one cell: nearly every interacting pair crosses tiles, so its
@@ -315,9 +330,10 @@ bad 2 "not both" -n 100 "$tmp/scene.in"
 bad 2 "--seed needs -n" --seed 3
 bad 2 "--seed needs -n" --seed 3 "$tmp/scene.in"
 bad 2 "no option 'nosuch'" -n 10 --option nosuch=1
-for o in dt mass cutoff skin naive stats; do
+for o in dt mass cutoff skin naive stats rounds; do
     [[ $FAIL_LINE == *"$o"* ]] || fail "the unknown-option message does not list '$o': $FAIL_LINE"
 done
+bad 2 "option rounds" -n 10 --option rounds=3
 bad 2 "option dt: 'abc'" -n 10 --option dt=abc
 bad 2 "option dt" -n 10 --option dt=-1
 bad 2 "option mass" -n 10 --option mass=0

@@ -28,6 +28,11 @@ enum { FPHASE_NLIST = PSIM_PHASE_MODEL, FPHASE_FORCE, FPHASE_INTEGRATE };
 enum { FC_PAIR_TESTS, FC_INTERACTIONS, FC_REBUILDS, FC_LIST_ENTRIES, FC_TASKS, FC_SORTED };
 /* Stages left out where the scene cannot use them (force.c, step.c). */
 enum { FS_MOVE, FS_WALLS, FS_GRAPH, FS_LISTS };
+/* How a step's two rounds (every tile's forces, then every tile's sums
+ * and moves) run on more than one thread (--option rounds=K): a task a
+ * tile, or a loop over the tiles shared by the threads, statically or
+ * dynamically.  The same results for all three. */
+enum { FORCE_ROUNDS_TASKS, FORCE_ROUNDS_STATIC, FORCE_ROUNDS_DYNAMIC };
 
 /* The course's constants (common.h). */
 #define CS267_DENSITY 0.0005
@@ -148,6 +153,7 @@ typedef struct fmodel {
     flaw law;
     int naive, stats, skip;
     int simd;               /* list builds, pair tests and moves with AVX-512 */
+    int rounds;             /* a step's rounds with threads: FORCE_ROUNDS_* */
     double skin;            /* list radius = cutoff + skin */
     double room;            /* every unlisted pair was more than cutoff +
                              * room apart at the build (room >= skin) */

@@ -1,0 +1,134 @@
+#!/usr/bin/env bash
+# bench/many_cores.sh: the measurements that need a machine with many cores
+# (the 8- and 16-thread goals of issues 7 and 10), in one command, so that a
+# short loan of such a machine is enough.  Writes into OUT_DIR:
+#   machine.txt        lscpu, psim topo, psim plan for --pin cores
+#   determinism.txt    the same bytes at 1 and at the largest thread count,
+#                      for every model
+#   force.md           bench/force_bench.sh over the thread counts, with
+#                      the course's strong and weak scaling efficiencies
+#   scaling/SCENE/     bench/scaling over the thread counts, --pin none and
+#                      cores, for each discrete scene found in SCENES_DIR
+#   tiles.md           the discrete 0.9 scenes at the largest thread count
+#                      with smaller tiles than the default
+#   event.md           bench/event_bench.sh (one core, collisions/s)
+#   log.txt            what every step printed, with its wall time
+#
+# usage: bench/many_cores.sh [--build DIR] [--scenes DIR] [--threads "P ..."]
+#                            [--only "PART ..."] OUT_DIR
+#   --build DIR    directory holding psim (default build)
+#   --scenes DIR   the course's cs3210-2024 scenes (default
+#                  ../shared/scenes/cs3210-2024); its standard/ and large/
+#                  scenes are used when present
+#   --threads L    thread counts (default "1 2 4 8 16")
+#   --only L       parts to run, of: machine determinism force scaling
+#                  tiles event (default: all, in that order)
+# Example: bench/many_cores.sh --threads "1 2 4 8 16" /tmp/many
+set -euo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+build=build
+scenes=../shared/scenes/cs3210-2024
+threads="1 2 4 8 16"
+only="machine determinism force scaling tiles event"
+out=""
+while [ $# -gt 0 ]; do
+    case "$1" in
+        --build) build="$2"; shift 2 ;;
+        --scenes) scenes="$2"; shift 2 ;;
+        --threads) threads="$2"; shift 2 ;;
+        --only) only="$2"; shift 2 ;;
+        -h|--help) sed -n '2,27p' "$0"; exit 0 ;;
+        -*) echo "many_cores.sh: unknown option: $1 (--help for usage)" >&2; exit 2 ;;
+        *) out="$1"; shift ;;
+    esac
+done
+[ -n "$out" ] || { echo "many_cores.sh: no OUT_DIR (--help for usage)" >&2; exit 2; }
+psim="$build/psim"
+[ -x "$psim" ] || { echo "many_cores.sh: missing $psim (build first)" >&2; exit 1; }
+mkdir -p "$out"
+top=$(echo "$threads" | tr ' ' '\n' | sort -n | tail -1)
+tcsv=$(echo "$threads" | tr ' ' ',')
+tmp=$(mktemp -d "${TMPDIR:-/tmp}/many_cores.XXXXXX")
+trap 'rm -rf "$tmp"' EXIT
+log="$out/log.txt"
+
+part() {  # name command...: run a part, timing it, if --only names it
+    local name=$1 t0
+    shift
+    case " $only " in *" $name "*) ;; *) return 0 ;; esac
+    t0=$(date +%s)
+    echo "== $name: $*" >> "$log"
+    "$@" >> "$log" 2>&1 || echo "== $name FAILED (status $?)" >> "$log"
+    echo "== $name took $(( $(date +%s) - t0 )) s" >> "$log"
+}
+
+machine() {
+    { lscpu; echo; "$psim" topo; echo; "$psim" plan --pin cores --threads "$top"; } \
+        > "$out/machine.txt" 2>&1
+}
+
+same() {  # label args...: the same --final bytes at 1 and $top threads
+    local label=$1
+    shift
+    "$psim" -q --threads 1 "$@" --final "$tmp/a.txt" > /dev/null
+    "$psim" -q --threads "$top" --pin cores "$@" --final "$tmp/b.txt" > /dev/null
+    if cmp -s "$tmp/a.txt" "$tmp/b.txt"; then
+        echo "$label: identical at 1 and $top threads ($(wc -l < "$tmp/a.txt") lines)"
+    else
+        echo "$label: DIFFERENT at 1 and $top threads"
+    fi
+    rm -f "$tmp/a.txt" "$tmp/b.txt"
+}
+
+determinism() {
+    local s
+    "$psim" gen --n 20000 --r 1 --density 0.4 --place nonoverlap --seed 5 \
+        --out "$tmp/event.in" 2> /dev/null
+    printf '20000\n3000\n1\n100\nperf\n' > "$tmp/ccd.in"   # rand()-made disks
+    {
+        for s in "$scenes"/standard/*.in "$scenes"/large/*_0.9.in; do
+            [ -f "$s" ] && same "discrete $(basename "$s")" "$s"
+        done
+        same "ccd 20000 disks x 100 steps" "$tmp/ccd.in"
+        same "force 2e5 x 100 steps" --model force -n 200000 --seed 1 --steps 100
+        same "event 2e4 x 10 steps" --model event --steps 10 "$tmp/event.in"
+    } > "$out/determinism.txt"
+}
+
+force() {
+    "$here/force_bench.sh" --runs 3 --threads "$threads" --weak 62500 \
+        --plot "$out/force.png" "$build" > "$out/force.md"
+}
+
+scaling() {
+    local s
+    for s in "$scenes"/standard/*.in "$scenes"/large/*.in; do
+        [ -f "$s" ] || continue
+        case "$s" in */large/*) r=3 ;; *) r=5 ;; esac
+        python3 "$here/scaling" --psim "$psim" --threads "$tcsv" --pin none,cores \
+            --runs "$r" --out-dir "$out/scaling/$(basename "$s" .in)" "$s"
+    done
+}
+
+tiles() {
+    local s t
+    for s in "$scenes"/standard/10k_density_0.9.in "$scenes"/large/100k_density_0.9.in; do
+        [ -f "$s" ] || continue
+        echo "### $(basename "$s")"
+        case "$s" in */large/*) t="16 32 64" ;; *) t="8 16 32" ;; esac
+        PSIM="$psim" "$here/tile_sweep.sh" "$s" "$t" "1 $top" 3
+        echo
+    done > "$out/tiles.md"
+}
+
+event() {
+    "$here/event_bench.sh" --runs 3 --etas 0.4 "$build" > "$out/event.md"
+}
+
+part machine machine
+part determinism determinism
+part force force
+part scaling scaling
+part tiles tiles
+part event event
+cat "$log"
