@@ -12,11 +12,15 @@
  * 1e6 particles the sort took 0.75-0.95 of its time with them, at 1e4
  * slightly more (docs/performance.md). */
 #define SORT_PREFETCH_MIN 65536
-/* Particles a thread, at least: the sort takes 10-20 ns a particle, and a
+/* Particles a chunk, at least: the sort takes 10-20 ns a particle, and a
  * parallel region with its four barriers some tens of microseconds on 16
  * threads of a VM (1e4 particles sorted twice as slowly on 16 threads as
- * on one: docs/performance.md, "Sixteen threads").  The order is the same
- * for any number of threads. */
+ * on one: docs/performance.md, "Sixteen threads").  Fewer particles are
+ * sorted by the calling thread alone, more in chunks of at least this
+ * many, by a team of all the threads: a team of fewer would make libgomp
+ * end the others, and start new ones later that inherit the calling
+ * thread's binding (with --pin, all on its core: 65 times slower).  The
+ * order is the same for any number of chunks. */
 #define SORT_GRAIN 8192
 
 int psim_sorter_init(psim_sorter *so, int threads, uint32_t ncells)
@@ -40,14 +44,13 @@ __attribute__((noinline)) size_t psim_sort_by_cell(psim_sorter *so,
                                                    psim_grid *g, int threads,
                                                    psim_thread_stats *ts)
 {
-    const int C = so->chunks;
     const uint32_t B = so->ncells;
     const size_t n = st->n;
+    const size_t most = n / SORT_GRAIN > 0 ? n / SORT_GRAIN : 1;
+    const int C = (size_t)so->chunks < most ? so->chunks : (int)most;
     size_t moved = 0;
-    size_t most = n / SORT_GRAIN > 0 ? n / SORT_GRAIN : 1;
-    const int team = (size_t)threads < most ? threads : (int)most;
 
-#pragma omp parallel num_threads(team) if (team > 1) reduction(+ : moved)
+#pragma omp parallel num_threads(threads) if (C > 1) reduction(+ : moved)
     {
         /* 1. cell of every particle, counted per chunk of particles */
 #pragma omp for schedule(static)
