@@ -15,7 +15,7 @@
 /* Particles a chunk, at least: the sort takes 10-20 ns a particle, and a
  * parallel region with its four barriers some tens of microseconds on 16
  * threads of a VM (1e4 particles sorted twice as slowly on 16 threads as
- * on one: docs/performance.md, "Sixteen threads").  Fewer particles are
+ * on one: docs/performance.md, "Sixteenth pass").  Fewer particles are
  * sorted by the calling thread alone, more in chunks of at least this
  * many, by a team of all the threads: a team of fewer would make libgomp
  * end the others, and start new ones later that inherit the calling

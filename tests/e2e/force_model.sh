@@ -163,7 +163,7 @@ done
 same_file "$tmp/t1.fast.out" "$tmp/t1.naive.out" "n 2000: fast path vs --naive"
 format "$tmp/t1.fast.out" 2000 10
 # a step's rounds as tasks, a static loop or a dynamic one: the same bytes
-# (the default is one of them: its tasks counter tells which)
+# (the default: dynamic below 8 threads, static from 8)
 for r in 0 1 2; do
     for t in 2 3; do
         force "r$r.$t" -n 2000 --seed 3 --steps 100 --threads "$t" --option "rounds=$r" \

@@ -33,6 +33,7 @@ enum { FS_MOVE, FS_WALLS, FS_GRAPH, FS_LISTS };
  * tile, or a loop over the tiles shared by the threads, statically or
  * dynamically.  The same results for all three. */
 enum { FORCE_ROUNDS_TASKS, FORCE_ROUNDS_STATIC, FORCE_ROUNDS_DYNAMIC };
+#define FORCE_STATIC_THREADS 8   /* the default: static from this many threads */
 
 /* The course's constants (common.h). */
 #define CS267_DENSITY 0.0005
