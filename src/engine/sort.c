@@ -17,10 +17,10 @@
  * threads of a VM (1e4 particles sorted twice as slowly on 16 threads as
  * on one: docs/performance.md, "Sixteenth pass").  Fewer particles are
  * sorted by the calling thread alone, more in chunks of at least this
- * many, by a team of all the threads: a team of fewer would make libgomp
- * end the others, and start new ones later that inherit the calling
- * thread's binding (with --pin, all on its core: 65 times slower).  The
- * order is the same for any number of chunks. */
+ * many, by a team of all the threads: with a team of fewer (12 of 16),
+ * libgomp ran the steps' later full teams 65 times slower under --pin
+ * (measured; why, not established: docs/design.md, "Teams").  The order
+ * is the same for any number of chunks. */
 #define SORT_GRAIN 8192
 
 int psim_sorter_init(psim_sorter *so, int threads, uint32_t ncells)
