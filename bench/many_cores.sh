@@ -101,7 +101,7 @@ force() {
 }
 
 scaling() {
-    local s
+    local s r
     for s in "$scenes"/standard/*.in "$scenes"/large/*.in; do
         [ -f "$s" ] || continue
         case "$s" in */large/*) r=3 ;; *) r=5 ;; esac
