@@ -82,6 +82,11 @@ static void name_stats(psim_stats *st, const psim_model *m)
     }
 }
 
+void psim_engine_tile_particles(psim_sim *e, double particles)
+{
+    e->tile_particles = particles;
+}
+
 int psim_engine_grid(psim_sim *e, double reach, const double *bbox)
 {
     return psim_engine_grid_occ(e, reach, bbox, 0);
@@ -127,7 +132,7 @@ int psim_engine_grid_tiles(psim_sim *e, double reach, const double *bbox, double
     if (e->cfg.steps == 0)   /* no step will use it: one cell, never sorted */
         occupancy = INFINITY;
     if (psim_grid_init_occ(&e->grid, e->L, e->r, reach, e->n, tile_cells, bbox,
-                           occupancy) ||
+                           occupancy, e->tile_particles) ||
         psim_sorter_init(&e->sorter, e->threads, e->grid.ncells))
         return -1;
     e->has_grid = e->cfg.steps != 0;

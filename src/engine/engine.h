@@ -35,6 +35,8 @@ struct psim_sim {
     int grid_asked, grid_ask_bbox;
     double grid_ask[7];     /* the last grid the model asked for: reach,
                              * occupancy, tile cells, bbox */
+    double tile_particles;   /* the model's tiles, particles a tile (0: the
+                              * default; psim_engine_grid_tiles) */
     int grid_saved, grid_saved_bbox;
     double grid_saved_ask[7]; /* a restart's, given at the model's first ask */
     int32_t *restart_order; /* a restart's store order, from the first sort */

@@ -20,7 +20,7 @@ static int plan_cells(double L, double reach, long n, double occupancy)
     return (int)G;
 }
 
-static int plan_tile_shift(int G, int bits, long n, int tile_cells)
+static int plan_tile_shift(int G, int bits, long n, int tile_cells, double tile_particles)
 {
     int shift = 0;
     if (tile_cells > 0) {
@@ -29,7 +29,7 @@ static int plan_tile_shift(int G, int bits, long n, int tile_cells)
         return shift;
     }
     double per_cell = (double)(n > 0 ? n : 1) / ((double)G * G);
-    double side = sqrt(PSIM_TILE_PARTICLES / per_cell);
+    double side = sqrt((tile_particles > 0 ? tile_particles : PSIM_TILE_PARTICLES) / per_cell);
     shift = (int)lround(log2(side));
     if (shift < 0)
         shift = 0;
@@ -79,11 +79,12 @@ static int cell_near_wall(const psim_grid *g, int cx, int cy, double L, double r
 int psim_grid_init(psim_grid *g, double L, double r, double reach, long n,
                    int tile_cells, const double *bbox)
 {
-    return psim_grid_init_occ(g, L, r, reach, n, tile_cells, bbox, PSIM_CELL_PARTICLES);
+    return psim_grid_init_occ(g, L, r, reach, n, tile_cells, bbox, PSIM_CELL_PARTICLES, 0);
 }
 
 int psim_grid_init_occ(psim_grid *g, double L, double r, double reach, long n,
-                       int tile_cells, const double *bbox, double occupancy)
+                       int tile_cells, const double *bbox, double occupancy,
+                       double tile_particles)
 {
     memset(g, 0, sizeof *g);
     g->L = L;
@@ -97,7 +98,7 @@ int psim_grid_init_occ(psim_grid *g, double L, double r, double reach, long n,
     g->invh = g->G / g->side;
     g->bits = bits_for(g->G);
     g->ncells = (uint32_t)g->G * (uint32_t)g->G;
-    g->tile_shift = plan_tile_shift(g->G, g->bits, n, tile_cells);
+    g->tile_shift = plan_tile_shift(g->G, g->bits, n, tile_cells, tile_particles);
     int S = 1 << g->tile_shift;
     g->TG = (g->G + S - 1) / S;
     g->ntiles = (uint32_t)g->TG * (uint32_t)g->TG;

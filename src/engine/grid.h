@@ -50,9 +50,12 @@ typedef struct psim_grid {
 int psim_grid_init(psim_grid *g, double L, double r, double reach, long n,
                    int tile_cells, const double *bbox);
 /* The same with about `occupancy` particles per cell at most (cells stay
- * wider than reach): sparse pair searches want cells close to reach. */
+ * wider than reach): sparse pair searches want cells close to reach; and
+ * with tile_cells 0, tiles of about tile_particles particles (0:
+ * PSIM_TILE_PARTICLES). */
 int psim_grid_init_occ(psim_grid *g, double L, double r, double reach, long n,
-                       int tile_cells, const double *bbox, double occupancy);
+                       int tile_cells, const double *bbox, double occupancy,
+                       double tile_particles);
 void psim_grid_free(psim_grid *g);
 
 /* Cell coordinate of position v along an axis whose grid starts at origin. */

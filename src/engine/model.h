@@ -114,6 +114,9 @@ int psim_engine_grid_occ(struct psim_sim *e, double reach, const double *bbox,
  * the thread count. */
 int psim_engine_grid_tiles(struct psim_sim *e, double reach, const double *bbox,
                            double occupancy, int tile_cells);
+/* Tiles of about `particles` particles (0: PSIM_TILE_PARTICLES) in the
+ * grids planned from now on with tile_cells 0, unless the run set --tile. */
+void psim_engine_tile_particles(struct psim_sim *e, double particles);
 /* Sort the store by cell now (after a re-plan), timed as the sort. */
 void psim_engine_sort(struct psim_sim *e);
 /* Value of the model's option called name (one of its options[]), or dflt

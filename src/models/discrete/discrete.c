@@ -128,6 +128,7 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
         goto oom;
     m->regrid = psim_engine_option(e, "regrid", 1) != 0;
     m->simd = psim_engine_option(e, "simd", 1) != 0 && psim_have_avx512();
+    psim_engine_tile_particles(e, DISCRETE_TILE_PARTICLES);
     /* cells wider than 2r over the region the disks occupy: contacts are
      * in the same or adjacent cells (regrid.c) */
     if (discrete_plan_grid(e, m))
@@ -135,6 +136,7 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
     m->four_r2 = 4.0 * e->r * e->r;
     double settle = psim_engine_option(e, "settle", SETTLE_DEFAULT);
     m->budget = (uint64_t)(settle * (double)(e->n > 0 ? e->n : 1));
+    m->gens = (uint32_t)psim_engine_option(e, "gens", 1);
     m->fl.enabled = psim_engine_option(e, "skip", 1) != 0;
     m->fl.gap = -1;
     m->fl.walls = 1;
@@ -233,6 +235,8 @@ const psim_model psim_model_discrete = {
                          "(same results)", 0, 1},
                 {"regrid", "0: plan the grid once, over the disks' bounding box at the start, "
                            "and keep it (default 1: follow the disks)", 0, 1},
+                {"gens", "generations of its worklist a tile resolves in a round, before "
+                         "the contacts across tiles (default 1; 0: to its fixpoint)", 0, 1e9},
                 PSIM_SKIP_OPTION,
                 {NULL, NULL, 0, 0}},
     .skips = {[DS_SEARCH] = {"search", "no pair could meet: sort, contacts, resolution"},

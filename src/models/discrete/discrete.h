@@ -5,14 +5,22 @@
  * resolve collisions to a fixpoint over the contacts only.
  *
  * Resolution runs in rounds.  A round is one OpenMP task graph:
- *   - one "tile" task per tile with work, depend(inout: tile): a worklist
- *     fixpoint over the contacts inside the tile (and the walls, for border
- *     tiles), re-checking only disks whose velocity changed;
+ *   - one "tile" task per tile with work, depend(inout: tile): one
+ *     generation of a first-in first-out worklist over the contacts inside
+ *     the tile (and the walls, for border tiles): the disks queued when
+ *     the round began, re-checking only disks whose velocity changed; the
+ *     disks their resolutions queue wait for the tile's next round
+ *     (--option gens=K: K generations; 0: the tile's fixpoint);
  *   - one "edge" task per pair of adjacent tiles with contacts across their
- *     border, depend(inout: both tiles): a fixpoint over those contacts.
+ *     border, depend(inout: both tiles): a fixpoint over those contacts,
+ *     whose changed disks join their tiles' queues.
  * Tasks that share a tile run in creation order, so every velocity sees the
  * same sequence of updates whatever the thread count: output is identical
- * for 1 or 64 threads.  Rounds repeat until one resolves nothing.  One tile
+ * for 1 or 64 threads.  Rounds repeat until one resolves nothing.  A round
+ * of one generation keeps the one worklist's order across tile borders
+ * closely enough that small tiles cost no more resolutions than one tile
+ * (a tile resolved to its fixpoint against stale borders sends waves back
+ * from them: up to twice the resolutions, docs/performance.md).  One tile
  * (the course's 10k scenes) on more threads runs its first round as parts:
  * the components of its contact graph split among the threads, each part a
  * worklist that pops every component's disks in the one worklist's order
@@ -57,6 +65,7 @@ typedef struct __attribute__((aligned(64))) dtile {
     size_t adj_cap;
     uint32_t *queue;
     size_t queue_cap;
+    uint32_t qhead, qcount;     /* its worklist, left for the next round */
     uint64_t checks, pair_res, wall_res;  /* this step */
     uint64_t round_res;                   /* this round, tile task */
     uint8_t has_active;         /* a disk was changed by an edge task */
@@ -67,6 +76,11 @@ typedef struct __attribute__((aligned(64))) dtile {
     uint8_t oom;
     uint8_t diverged;           /* a task ran past its resolution budget */
 } dtile;
+
+/* Disks a tile, about (the grid's own default is 16384): the course's 10k
+ * scenes in four tiles, its 100k scenes in 36.  The tiles are part of the
+ * resolution order, so they follow the scene, never the thread count. */
+#define DISCRETE_TILE_PARTICLES 4096.0
 
 /* A chunk of a tile's cells for the contact search: chunks are searched in
  * parallel, then each tile joins its chunks' lists in chunk order, which
@@ -129,6 +143,7 @@ typedef struct dmodel {
     uint64_t step_contacts;  /* contacts found this step */
     uint64_t step_tests;     /* distance tests of this step's search */
     uint64_t budget;         /* resolutions a step may take (settle x n) */
+    uint32_t gens;           /* generations a tile's round takes (0: all) */
     double d2min;            /* nearest pair the last search saw, squared */
     dflight fl;              /* what the scene can use this step (flight.c) */
     int simd;                /* contact search with AVX-512 (contacts.c;

@@ -66,6 +66,11 @@ static void worklist(const psim_sim *e, dmodel *m, dtile *t, int first, wpart *w
     double *save = wp->save;
     const uint32_t nt = t->p1 - t->p0;
     wl w = {wp->queue, nt, 0, 0};
+    /* a tile among others stops after gens generations (0: at its
+     * fixpoint); the queue it leaves goes on in its next round */
+    const uint32_t gens = !own && m->ntiles > 1 ? m->gens : 0;
+    if (!own && !first)
+        w.head = t->qhead, w.count = t->qcount;
     uint64_t checks = 0, pres = 0, wres = 0;
     const uint64_t budget = m->budget;
 
@@ -102,7 +107,14 @@ static void worklist(const psim_sim *e, dmodel *m, dtile *t, int first, wpart *w
         wl_push(&w, flag, i);
     }
     wp->diverged = 0;
+    uint32_t gen_left = w.count, gen = 0;   /* pops left in this generation */
     while (w.count) {
+        if (gen_left == 0) {   /* the disks queued by the last generation's pops */
+            if (++gen == gens)
+                break;
+            gen_left = w.count;
+        }
+        gen_left--;
         if (pres + wres > budget) {
             wp->diverged = 1;
             break;
@@ -142,6 +154,8 @@ static void worklist(const psim_sim *e, dmodel *m, dtile *t, int first, wpart *w
             wl_push(&w, flag, i);
         }
     }
+    if (!own)
+        t->qhead = w.head, t->qcount = w.count;
     wp->checks = checks, wp->pres = pres, wp->wres = wres;
     wp->tid = omp_get_thread_num();
 }
@@ -411,7 +425,7 @@ static uint64_t emit_round(const psim_sim *e, dmodel *m, int first)
         dtile *t = &m->tiles[ti];
         t->changed_inner = 0;
         t->round_res = 0;
-        t->scheduled = t->p0 != t->p1 && (first || t->has_active);
+        t->scheduled = t->p0 != t->p1 && (first || t->has_active || t->qcount);
     }
     for (uint32_t ti = 0; ti < m->ntiles; ti++) {
         dtile *t = &m->tiles[ti];
