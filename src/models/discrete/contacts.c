@@ -58,7 +58,8 @@ static int build_adjacency(dtile *t)
         return -1;
     if (psim_reserve((void **)&t->adj0, &t->adj0_cap, n + 1, sizeof *t->adj0) ||
         psim_reserve((void **)&t->adj, &t->adj_cap, 2 * t->in.n + 1, sizeof *t->adj) ||
-        psim_reserve((void **)&t->queue, &t->queue_cap, n + 1, sizeof *t->queue))
+        psim_reserve((void **)&t->queue, &t->queue_cap, n + 1, sizeof *t->queue) ||
+        psim_reserve((void **)&t->acts, &t->acts_cap, n + 1, sizeof *t->acts))
         return -1;
     memset(t->adj0, 0, (n + 1) * sizeof *t->adj0);
     for (size_t k = 0; k < t->in.n; k++) {

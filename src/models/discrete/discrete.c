@@ -78,6 +78,7 @@ static void tile_state_free(dmodel *m)
         psim_free(d->adj0);
         psim_free(d->adj);
         psim_free(d->queue);
+        psim_free(d->acts);
     }
     for (uint32_t k = 0; m->chunks && k < m->nchunks; k++) {
         psim_free(m->chunks[k].in.c);

@@ -66,6 +66,9 @@ typedef struct __attribute__((aligned(64))) dtile {
     uint32_t *queue;
     size_t queue_cap;
     uint32_t qhead, qcount;     /* its worklist, left for the next round */
+    uint32_t *acts;             /* its disks edge tasks changed this round, */
+    size_t acts_cap;            /* in the order they did (resolve.c) */
+    uint32_t nact;
     uint64_t checks, pair_res, wall_res;  /* this step */
     uint64_t round_res;                   /* this round, tile task */
     uint8_t has_active;         /* a disk was changed by an edge task */

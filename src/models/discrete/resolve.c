@@ -74,21 +74,17 @@ static void worklist(const psim_sim *e, dmodel *m, dtile *t, int first, wpart *w
     uint64_t checks = 0, pres = 0, wres = 0;
     const uint64_t budget = m->budget;
 
-    for (uint32_t i = t->p0; i < t->p1; i++) {
+    /* the first round: every disk of the tile; later rounds: the few that
+     * edge tasks changed, in the order they did */
+    const uint32_t *acts = first ? NULL : t->acts;
+    const uint32_t seeds = first ? nt : t->nact;
+    for (uint32_t k = 0; k < seeds; k++) {
+        const uint32_t i = acts ? acts[k] : t->p0 + k;
         if (own && own[i - t->p0] != wp->k)
             continue;   /* another part's component */
         if (save) {   /* the velocity before, for a rerun */
             save[i - t->p0] = vx[i];
             save[nt + i - t->p0] = vy[i];
-        }
-        if (!first) {   /* later rounds: the few disks edge tasks changed */
-            uint64_t word;
-            if (i + 8 <= t->p1 && (memcpy(&word, act + i, 8), word == 0)) {
-                i += 7;
-                continue;
-            }
-            if (!act[i])
-                continue;
         }
         act[i] = 0;
         if (t->adj0[i - t->p0] == t->adj0[i - t->p0 + 1]) {
@@ -106,6 +102,8 @@ static void worklist(const psim_sim *e, dmodel *m, dtile *t, int first, wpart *w
         flag[i] = first ? 0 : (uint8_t)(flag[i] | F_CHANGED);
         wl_push(&w, flag, i);
     }
+    if (!own)
+        t->nact = 0;
     wp->diverged = 0;
     uint32_t gen_left = w.count, gen = 0;   /* pops left in this generation */
     while (w.count) {
@@ -181,8 +179,19 @@ static void timed_worklist(const psim_sim *e, dmodel *m, dtile *t, int first, wp
     psim_tstat_add(e->tstats, DPHASE_RESOLVE, psim_now() - t0, 1, disks);
 }
 
-/* One pass over a list of contacts across a tile border. */
-static uint64_t cross_pass(const psim_sim *e, dmodel *m, const dlist *l,
+/* Disk i (of tile a or b) changed by an edge task: to its tile's next
+ * round, once. */
+static inline void activate(dmodel *m, dtile *a, dtile *b, uint32_t i)
+{
+    if (m->active[i])
+        return;
+    m->active[i] = 1;
+    dtile *t = i - a->p0 < a->p1 - a->p0 ? a : b;
+    t->acts[t->nact++] = i;
+}
+
+/* One pass over a list of contacts across the border of tiles a and b. */
+static uint64_t cross_pass(const psim_sim *e, dmodel *m, const dlist *l, dtile *a, dtile *b,
                            uint64_t *checks)
 {
     double *restrict vx = e->st.vx, *restrict vy = e->st.vy;
@@ -195,8 +204,8 @@ static uint64_t cross_pass(const psim_sim *e, dmodel *m, const dlist *l,
         if (psim_moving_closer(dot)) {
             psim_pair_resolve(dot, dx, dy, dx * dx + dy * dy, &vx[c->i], &vy[c->i],
                               &vx[c->j], &vy[c->j]);
-            m->active[c->i] = 1;
-            m->active[c->j] = 1;
+            activate(m, a, b, (uint32_t)c->i);
+            activate(m, a, b, (uint32_t)c->j);
             res++;
         }
     }
@@ -217,7 +226,7 @@ static void edge_task(const psim_sim *e, dmodel *m, size_t k, int first)
     uint64_t total = 0, res, checks = 0;
     const uint64_t budget = m->budget;
     do {
-        res = cross_pass(e, m, la, &checks) + cross_pass(e, m, lb, &checks);
+        res = cross_pass(e, m, la, a, b, &checks) + cross_pass(e, m, lb, a, b, &checks);
         total += res;
         if (total > budget) {
             a->diverged = 1;
