@@ -115,6 +115,7 @@ static void destroy(void *p)
         return;
     tile_state_free(m);
     psim_free(m->active);
+    psim_free(m->border);
     psim_free(m->flag);
     psim_free(m->nearwall);
     discrete_parts_free(m);
@@ -143,9 +144,10 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
     m->fl.walls = 1;
     m->fl.quiet = 1;   /* the first drift looks at the velocities */
     m->active = psim_calloc((size_t)e->n + 1);
+    m->border = psim_calloc((size_t)e->n + 1);
     m->flag = psim_calloc((size_t)e->n + 1);
     m->nearwall = psim_calloc((size_t)e->n + 1);
-    if (!m->active || !m->flag || !m->nearwall || tile_state_build(e, m))
+    if (!m->active || !m->border || !m->flag || !m->nearwall || tile_state_build(e, m))
         goto oom;
     return m;
 oom:

@@ -73,7 +73,8 @@ typedef struct __attribute__((aligned(64))) dtile {
     uint64_t round_res;                   /* this round, tile task */
     uint8_t has_active;         /* a disk was changed by an edge task */
     uint8_t scheduled;          /* a tile task runs this round */
-    uint8_t changed_inner;      /* tile task resolved something this round */
+    uint8_t changed_inner;      /* tile task changed a disk with contacts
+                                 * across tiles this round */
     uint8_t changed_cross_prev; /* edge tasks changed it last round */
     uint8_t changed_cross_cur;  /* edge tasks changed it this round */
     uint8_t oom;
@@ -139,6 +140,8 @@ typedef struct dmodel {
     size_t nedges;
     uint64_t *edge_res; /* per edge, this round */
     uint8_t *active;    /* per particle: changed by an edge task */
+    uint8_t *border;    /* per particle, while resolving: has contacts
+                         * across tiles (resolve.c) */
     uint8_t *flag;      /* per particle: worklist state (resolve.c) */
     uint8_t *nearwall;  /* per particle, this step: within r of a wall (resolve.c) */
     char *dep;          /* one dependence object per tile */

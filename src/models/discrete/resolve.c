@@ -45,6 +45,7 @@ typedef struct wpart {
                            * of the tile (x, then y) before its first pop */
     uint64_t checks, pres, wres;
     uint8_t diverged;
+    uint8_t bchg;         /* it changed a disk with contacts across tiles */
     int tid;              /* the thread that ran it */
 } wpart;
 
@@ -73,6 +74,8 @@ static void worklist(const psim_sim *e, dmodel *m, dtile *t, int first, wpart *w
         w.head = t->qhead, w.count = t->qcount;
     uint64_t checks = 0, pres = 0, wres = 0;
     const uint64_t budget = m->budget;
+    const uint8_t *border = m->border;
+    int bchg = 0;   /* a disk with contacts across tiles changed */
 
     /* the first round: every disk of the tile; later rounds: the few that
      * edge tasks changed, in the order they did */
@@ -94,6 +97,7 @@ static void worklist(const psim_sim *e, dmodel *m, dtile *t, int first, wpart *w
             if (walls && psim_wall_collides(x[i], y[i], vx[i], vy[i], L, r)) {
                 psim_wall_resolve(x[i], y[i], &vx[i], &vy[i], L, r);
                 wres++;
+                bchg |= border[i];
             }
             continue;
         }
@@ -126,6 +130,7 @@ static void worklist(const psim_sim *e, dmodel *m, dtile *t, int first, wpart *w
             psim_wall_resolve(xi, yi, &vxi, &vyi, L, r);
             wres++;
             full = 1;
+            bchg |= border[i];
         }
         const int32_t *a = t->adj + t->adj0[i - t->p0];
         const int32_t *end = t->adj + t->adj0[i - t->p0 + 1];
@@ -141,6 +146,7 @@ static void worklist(const psim_sim *e, dmodel *m, dtile *t, int first, wpart *w
                                   &vx[j], &vy[j]);
                 changed = 1;
                 pres++;
+                bchg |= border[j];
                 flag[j] |= F_CHANGED;
                 wl_push(&w, flag, j);
             }
@@ -148,6 +154,7 @@ static void worklist(const psim_sim *e, dmodel *m, dtile *t, int first, wpart *w
         vx[i] = vxi;
         vy[i] = vyi;
         if (changed) {
+            bchg |= border[i];
             flag[i] |= F_CHANGED;
             wl_push(&w, flag, i);
         }
@@ -155,11 +162,13 @@ static void worklist(const psim_sim *e, dmodel *m, dtile *t, int first, wpart *w
     if (!own)
         t->qhead = w.head, t->qcount = w.count;
     wp->checks = checks, wp->pres = pres, wp->wres = wres;
+    wp->bchg = (uint8_t)bchg;
     wp->tid = omp_get_thread_num();
 }
 
 /* What a tile's worklists did, to the tile. */
-static void tile_done(dtile *t, uint64_t checks, uint64_t pres, uint64_t wres, int diverged)
+static void tile_done(dtile *t, uint64_t checks, uint64_t pres, uint64_t wres, int diverged,
+                      int bchg)
 {
     t->has_active = 0;
     t->diverged |= (uint8_t)diverged;
@@ -167,7 +176,7 @@ static void tile_done(dtile *t, uint64_t checks, uint64_t pres, uint64_t wres, i
     t->wall_res += wres;
     t->pair_res += pres;
     t->round_res = pres + wres;
-    t->changed_inner = (pres + wres) != 0;
+    t->changed_inner = (uint8_t)bchg;
 }
 
 /* A worklist, its time and its disks to its thread's profile. */
@@ -261,7 +270,7 @@ static void timed_tile(const psim_sim *e, dmodel *m, dtile *t, int first)
     wpart wp = {.queue = t->queue};
     timed_worklist(e, m, t, first, &wp, t->p1 - t->p0);
     e->tstats[wp.tid].wall_resolutions += wp.wres;
-    tile_done(t, wp.checks, wp.pres, wp.wres, wp.diverged);
+    tile_done(t, wp.checks, wp.pres, wp.wres, wp.diverged, wp.bchg);
 }
 
 static void timed_edge(const psim_sim *e, dmodel *m, size_t k, int first)
@@ -402,7 +411,7 @@ static int resolve_parts(const psim_sim *e, dmodel *m, dtile *t)
     }
     for (int k = 0; k < parts; k++)   /* (a rerun's own walls count instead) */
         e->tstats[wp[k].tid].wall_resolutions += wp[k].wres;
-    tile_done(t, checks, pres, wres, 0);
+    tile_done(t, checks, pres, wres, 0, 0);   /* one tile: no edges */
     return 0;
 }
 
@@ -488,6 +497,18 @@ static int any_diverged(const dmodel *m)
     return 0;
 }
 
+/* Mark (v 1) or clear (v 0) the disks with contacts across tiles: an edge
+ * task needs to run again only when a tile task changed one of them. */
+static void mark_border(dmodel *m, uint8_t v)
+{
+    for (uint32_t ti = 0; ti < m->ntiles; ti++)
+        for (int d = 0; d < DIRS; d++) {
+            const dlist *l = &m->tiles[ti].cross[d];
+            for (size_t k = 0; k < l->n; k++)
+                m->border[l->c[k].i] = m->border[l->c[k].j] = v;
+        }
+}
+
 __attribute__((noinline)) int discrete_resolve(psim_sim *e, dmodel *m)
 {
     uint64_t rounds = 0, tasks = 0, total = 0;
@@ -499,6 +520,7 @@ __attribute__((noinline)) int discrete_resolve(psim_sim *e, dmodel *m)
         t->has_active = t->changed_cross_prev = t->changed_cross_cur = 0;
         t->diverged = 0;
     }
+    mark_border(m, 1);
 #pragma omp parallel num_threads(e->threads) if (e->threads > 1)
 #pragma omp single
     {
@@ -516,6 +538,7 @@ __attribute__((noinline)) int discrete_resolve(psim_sim *e, dmodel *m)
                 break;
         }
     }
+    mark_border(m, 0);
     for (uint32_t ti = 0; ti < m->ntiles; ti++) {
         const dtile *t = &m->tiles[ti];
         e->stats.counter[DC_PAIR_CHECKS] += t->checks;
