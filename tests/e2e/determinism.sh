@@ -9,12 +9,6 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 source "$(dirname "$0")/lib.sh" "$@"
 
-# json_int FILE KEY: the integer value of "KEY" in a --stats file.
-json_int()
-{
-    sed -n "s/^ *\"$2\": \([0-9]*\),\{0,1\}\$/\1/p" "$1"
-}
-
 # check_trace NAME SCENE DIR: the reference run's trace has every step, and
 # its last step is its --out.
 check_trace()

@@ -99,3 +99,9 @@ stop_hogs()
     wait "${HOGS[@]}" 2>/dev/null || true
     HOGS=()
 }
+
+# json_int FILE KEY: the integer value of "KEY" in a --stats file.
+json_int()
+{
+    sed -n "s/^ *\"$2\": \([0-9]*\),\{0,1\}\$/\1/p" "$1"
+}

@@ -13,11 +13,6 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 source "$(dirname "$0")/lib.sh" "$@"
 
-json_int()
-{
-    sed -n "s/^ *\"$2\": \([0-9]*\),\{0,1\}\$/\1/p" "$1"
-}
-
 gen "$tmp/pile.in" --n 10000 --r 53 --density 0.9 --vmin 2 --vmax 5 --steps 50 --seed 8
 
 # res NAME OPTIONS...: pair resolutions and tiles of a checked run
