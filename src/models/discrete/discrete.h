@@ -71,9 +71,8 @@ typedef struct __attribute__((aligned(64))) dtile {
     uint32_t nact;
     uint64_t checks, pair_res, wall_res;  /* this step */
     uint64_t round_res;                   /* this round, tile task */
-    uint8_t has_active;         /* a disk was changed by an edge task */
     uint8_t scheduled;          /* a tile task runs this round */
-    uint8_t changed_inner;      /* tile task changed a disk with contacts
+    uint8_t changed_border;     /* tile task changed a disk with contacts
                                  * across tiles this round */
     uint8_t changed_cross_prev; /* edge tasks changed it last round */
     uint8_t changed_cross_cur;  /* edge tasks changed it this round */

@@ -170,13 +170,12 @@ static void worklist(const psim_sim *e, dmodel *m, dtile *t, int first, wpart *w
 static void tile_done(dtile *t, uint64_t checks, uint64_t pres, uint64_t wres, int diverged,
                       int bchg)
 {
-    t->has_active = 0;
     t->diverged |= (uint8_t)diverged;
     t->checks += checks;
     t->wall_res += wres;
     t->pair_res += pres;
     t->round_res = pres + wres;
-    t->changed_inner = (uint8_t)bchg;
+    t->changed_border = (uint8_t)bchg;
 }
 
 /* A worklist, its time and its disks to its thread's profile. */
@@ -228,7 +227,7 @@ static void edge_task(const psim_sim *e, dmodel *m, size_t k, int first)
     const dedge *ed = &m->edges[k];
     dtile *a = &m->tiles[ed->a], *b = &m->tiles[ed->b];
     m->edge_res[k] = 0;
-    if (!first && !(a->changed_inner || b->changed_inner ||
+    if (!first && !(a->changed_border || b->changed_border ||
                     a->changed_cross_prev || b->changed_cross_prev))
         return;
     const dlist *la = &a->cross[ed->dir], *lb = &b->cross[DIR_OPP(ed->dir)];
@@ -244,10 +243,8 @@ static void edge_task(const psim_sim *e, dmodel *m, size_t k, int first)
     } while (res);
     a->checks += checks;
     a->pair_res += total;
-    if (total) {
+    if (total)   /* (its disks are in a's and b's acts) */
         a->changed_cross_cur = b->changed_cross_cur = 1;
-        a->has_active = b->has_active = 1;
-    }
     m->edge_res[k] = total;
 }
 
@@ -441,9 +438,9 @@ static uint64_t emit_round(const psim_sim *e, dmodel *m, int first)
     const int graph = e->threads > 1;
     for (uint32_t ti = 0; ti < m->ntiles; ti++) {
         dtile *t = &m->tiles[ti];
-        t->changed_inner = 0;
+        t->changed_border = 0;
         t->round_res = 0;
-        t->scheduled = t->p0 != t->p1 && (first || t->has_active || t->qcount);
+        t->scheduled = t->p0 != t->p1 && (first || t->nact || t->qcount);
     }
     for (uint32_t ti = 0; ti < m->ntiles; ti++) {
         dtile *t = &m->tiles[ti];
@@ -517,7 +514,8 @@ __attribute__((noinline)) int discrete_resolve(psim_sim *e, dmodel *m)
     for (uint32_t ti = 0; ti < m->ntiles; ti++) {
         dtile *t = &m->tiles[ti];
         t->checks = t->pair_res = t->wall_res = 0;
-        t->has_active = t->changed_cross_prev = t->changed_cross_cur = 0;
+        t->nact = 0;
+        t->changed_cross_prev = t->changed_cross_cur = 0;
         t->diverged = 0;
     }
     mark_border(m, 1);
