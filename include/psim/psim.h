@@ -45,6 +45,7 @@ typedef enum {
  * the order the run kept them, with the model's own columns after vy
  * (docs/formats.md, "Restart files"). */
 #define PSIM_RESTART_COLS 8
+#define PSIM_RESTART_CUTS 1026   /* tiles cut anew: at most 512 a side */
 typedef struct psim_restart {
     int present;
     long step;                  /* steps done before this file was written */
@@ -52,6 +53,8 @@ typedef struct psim_restart {
     char *options;              /* its options "K=V,K=V" (NULL: none) */
     int has_grid, grid_has_bbox;
     double grid[7];             /* reach, occupancy, tile cells, the bbox if any */
+    int ncuts;                  /* the tiles' cuts: TG + 1 columns, then TG + 1 */
+    int32_t cuts[PSIM_RESTART_CUTS]; /* rows (0: the default cuts) */
     int ncols;
     char colname[PSIM_RESTART_COLS][24];
     double *col[PSIM_RESTART_COLS];  /* n each, by id */

@@ -125,6 +125,7 @@ int psim_engine_grid_tiles(psim_sim *e, double reach, const double *bbox, double
 {
     if (e->cfg.tile_cells)
         tile_cells = e->cfg.tile_cells;
+    int restarted = e->grid_saved;
     grid_ask(e, &reach, &bbox, &occupancy, &tile_cells);
     psim_sorter_free(&e->sorter);
     psim_grid_free(&e->grid);
@@ -136,12 +137,22 @@ int psim_engine_grid_tiles(psim_sim *e, double reach, const double *bbox, double
         psim_sorter_init(&e->sorter, e->threads, e->grid.ncells))
         return -1;
     e->has_grid = e->cfg.steps != 0;
+    const int TG = e->grid.TG;
+    if (restarted && e->ncuts_saved == 2 * (TG + 1) &&
+        psim_grid_cuts_ok(e->cuts_saved, TG, e->grid.G) &&
+        psim_grid_cuts_ok(e->cuts_saved + TG + 1, TG, e->grid.G))
+        psim_grid_cut(&e->grid, e->cuts_saved, e->cuts_saved + TG + 1);
     e->stats.grid_cells = e->has_grid ? e->grid.G : 0;
     e->stats.cell_side = e->grid.h;
     e->stats.tile_cells = 1 << e->grid.tile_shift;
     e->stats.tiles = (int)e->grid.ntiles;
     return 0;
 }
+void psim_engine_grid_cut(psim_sim *e, const int32_t *cut_x, const int32_t *cut_y)
+{
+    psim_grid_cut(&e->grid, cut_x, cut_y);
+}
+
 static int snapshot_alloc(psim_snapshot *s, long n)
 {
     s->n = n;

@@ -37,6 +37,8 @@ struct psim_sim {
                              * occupancy, tile cells, bbox */
     double tile_particles;   /* the model's tiles, particles a tile (0: the
                               * default; psim_engine_grid_tiles) */
+    int ncuts_saved;         /* a restart's tile cuts, given with its plan */
+    int32_t cuts_saved[PSIM_RESTART_CUTS];
     int grid_saved, grid_saved_bbox;
     double grid_saved_ask[7]; /* a restart's, given at the model's first ask */
     int32_t *restart_order; /* a restart's store order, from the first sort */

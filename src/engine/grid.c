@@ -38,9 +38,8 @@ static int plan_tile_shift(int G, int bits, long n, int tile_cells, double tile_
     return shift;
 }
 
-/* Number the cells of a W x W grid by dense Morton rank. */
-static void rank_cells(int W, int bits, uint32_t *rank_of_xy, int32_t *xs,
-                       int32_t *ys)
+/* Number the tiles of a W x W grid of tiles by dense Morton rank. */
+static void rank_tiles(int W, int bits, uint32_t *rank_of_xy, int32_t *xs, int32_t *ys)
 {
     uint32_t next = 0;
     uint64_t keys = 1ull << (2 * bits);
@@ -56,6 +55,27 @@ static void rank_cells(int W, int bits, uint32_t *rank_of_xy, int32_t *xs,
     }
 }
 
+/* A tile's cells [x0, x1) x [y0, y1), ranked from *next in Morton order of
+ * their offsets from (x0, y0): the quadrant of side 1 << level at offset
+ * (qx, qy), its four children in key order, those outside left out. */
+static void rank_quadrant(psim_grid *g, int x0, int y0, int w, int h, int qx, int qy,
+                          int level, uint32_t *next)
+{
+    if (qx >= w || qy >= h)
+        return;
+    if (level == 0) {
+        int cx = x0 + qx, cy = y0 + qy;
+        g->rank_of_xy[(uint32_t)cy * (uint32_t)g->G + (uint32_t)cx] = *next;
+        g->cell_x[*next] = cx;
+        g->cell_y[*next] = cy;
+        (*next)++;
+        return;
+    }
+    int half = 1 << (level - 1);
+    for (int k = 0; k < 4; k++)   /* x in the even bits: (0,0) (1,0) (0,1) (1,1) */
+        rank_quadrant(g, x0, y0, w, h, qx + (k & 1) * half, qy + (k >> 1) * half, level - 1,
+                      next);
+}
 static int bits_for(int W)
 {
     int b = 0;
@@ -112,28 +132,60 @@ int psim_grid_init_occ(psim_grid *g, double L, double r, double reach, long n,
     g->tile_y = psim_alloc(g->ntiles * sizeof *g->tile_y);
     g->tile_cell0 = psim_calloc((g->ntiles + 1) * sizeof *g->tile_cell0);
     g->tile_wall = psim_calloc(g->ntiles);
-    if (!g->rank_of_xy || !g->cell_x || !g->cell_y || !g->cellstart ||
+    g->cut_x = psim_alloc(((size_t)g->TG + 1) * sizeof *g->cut_x);
+    g->cut_y = psim_alloc(((size_t)g->TG + 1) * sizeof *g->cut_y);
+    g->tcol = psim_alloc((size_t)g->G * sizeof *g->tcol);
+    g->trow = psim_alloc((size_t)g->G * sizeof *g->trow);
+    if (!g->cut_x || !g->cut_y || !g->tcol || !g->trow || !g->rank_of_xy || !g->cell_x || !g->cell_y || !g->cellstart ||
         !g->tile_of_xy || !g->tile_x || !g->tile_y || !g->tile_cell0 ||
         !g->tile_wall) {
         psim_grid_free(g);
         return -1;
     }
-    rank_cells(g->G, g->bits, g->rank_of_xy, g->cell_x, g->cell_y);
-    rank_cells(g->TG, bits_for(g->TG), g->tile_of_xy, g->tile_x, g->tile_y);
-
-    /* Tiles in rank order own consecutive cell ranks. */
-    uint32_t prev = UINT32_MAX;
-    for (uint32_t c = 0; c < g->ncells; c++) {
-        uint32_t t = psim_grid_tile_of_cell(g, c);
-        if (t != prev) {
-            g->tile_cell0[t] = c;
-            prev = t;
-        }
-        if (cell_near_wall(g, g->cell_x[c], g->cell_y[c], L, r))
-            g->tile_wall[t] = 1;
-    }
-    g->tile_cell0[g->ntiles] = g->ncells;
+    rank_tiles(g->TG, bits_for(g->TG), g->tile_of_xy, g->tile_x, g->tile_y);
+    g->r = r;
+    psim_grid_cut(g, NULL, NULL);
     return 0;
+}
+
+int psim_grid_cuts_ok(const int32_t *cut, int TG, int G)
+{
+    if (cut[0] != 0 || cut[TG] != G)
+        return 0;
+    for (int j = 0; j < TG; j++)
+        if (cut[j + 1] <= cut[j])
+            return 0;
+    return 1;
+}
+
+void psim_grid_cut(psim_grid *g, const int32_t *cut_x, const int32_t *cut_y)
+{
+    const int S = 1 << g->tile_shift;
+    g->cut = cut_x || cut_y;
+    for (int j = 0; j <= g->TG; j++) {
+        int u = j * S < g->G ? j * S : g->G;
+        g->cut_x[j] = cut_x ? cut_x[j] : u;
+        g->cut_y[j] = cut_y ? cut_y[j] : u;
+    }
+    for (int j = 0; j < g->TG; j++)
+        for (int c = g->cut_x[j]; c < g->cut_x[j + 1]; c++)
+            g->tcol[c] = j;
+    for (int j = 0; j < g->TG; j++)
+        for (int c = g->cut_y[j]; c < g->cut_y[j + 1]; c++)
+            g->trow[c] = j;
+    /* Tiles in rank order own consecutive cell ranks. */
+    uint32_t next = 0;
+    for (uint32_t t = 0; t < g->ntiles; t++) {
+        int x0 = g->cut_x[g->tile_x[t]], x1 = g->cut_x[g->tile_x[t] + 1];
+        int y0 = g->cut_y[g->tile_y[t]], y1 = g->cut_y[g->tile_y[t] + 1];
+        int w = x1 - x0, h = y1 - y0;
+        g->tile_cell0[t] = next;
+        rank_quadrant(g, x0, y0, w, h, 0, 0, bits_for(w > h ? w : h), &next);
+        g->tile_wall[t] = 0;
+        for (uint32_t c = g->tile_cell0[t]; c < next && !g->tile_wall[t]; c++)
+            g->tile_wall[t] = (uint8_t)cell_near_wall(g, g->cell_x[c], g->cell_y[c], g->L, g->r);
+    }
+    g->tile_cell0[g->ntiles] = next;
 }
 
 void psim_grid_free(psim_grid *g)
@@ -147,5 +199,9 @@ void psim_grid_free(psim_grid *g)
     psim_free(g->tile_y);
     psim_free(g->tile_cell0);
     psim_free(g->tile_wall);
+    psim_free(g->cut_x);
+    psim_free(g->cut_y);
+    psim_free(g->tcol);
+    psim_free(g->trow);
     memset(g, 0, sizeof *g);
 }

@@ -6,7 +6,11 @@
  * rank is a sort by Morton key with no empty buckets outside the grid.
  * Tiles are aligned blocks of S x S cells (S a power of two); in Morton order
  * the cells of a tile are one contiguous rank range, and so are its
- * particles after the sort.  The grid spans the region its model asks for
+ * particles after the sort.  A model may cut the tiles elsewhere
+ * (psim_grid_cut: the same TG x TG tiles, each column and row of tiles as
+ * wide as it chooses); cells are then ranked tile by tile, in the tiles'
+ * Morton order, and in Morton order within each tile, which for the
+ * default cuts is the dense Morton rank itself.  The grid spans the region its model asks for
  * (the discrete model: where its disks are, planned again as they move, so
  * a cluster in a corner of a huge box still gets small cells:
  * src/models/discrete/regrid.c); positions outside it are clamped into the
@@ -24,7 +28,7 @@
 #define PSIM_CELL_PARTICLES 3.0
 
 typedef struct psim_grid {
-    double L, h, invh;
+    double L, r, h, invh;   /* r: the disks' radius (which cells touch a wall) */
     double x0, y0, side;    /* the gridded square [x0, x0+side] x [y0, y0+side] */
     int G;                  /* cells per side */
     int bits;               /* 2^bits >= G */
@@ -33,8 +37,13 @@ typedef struct psim_grid {
     int32_t *cell_x, *cell_y; /* rank -> coordinates */
     uint32_t *cellstart;    /* ncells + 1: first particle of each cell */
 
-    int tile_shift;         /* S = 1 << tile_shift cells per tile side */
+    int tile_shift;         /* S = 1 << tile_shift cells per tile side,
+                             * unless cut otherwise (psim_grid_cut) */
     int TG;                 /* tiles per side */
+    int32_t *cut_x, *cut_y; /* TG + 1 each: the first cell column (row) of
+                             * each column (row) of tiles; [TG] = G */
+    int32_t *tcol, *trow;   /* G each: the tile column (row) of a cell column (row) */
+    int cut;                /* the cuts are not the multiples of S */
     uint32_t ntiles;
     uint32_t *tile_of_xy;   /* [ty * TG + tx] -> tile rank */
     int32_t *tile_x, *tile_y;
@@ -57,6 +66,12 @@ int psim_grid_init_occ(psim_grid *g, double L, double r, double reach, long n,
                        int tile_cells, const double *bbox, double occupancy,
                        double tile_particles);
 void psim_grid_free(psim_grid *g);
+/* Cut the tiles of g at cell columns cut_x[0..TG] and rows cut_y[0..TG]
+ * (cut[0] = 0, cut[TG] = G, increasing; NULL: the multiples of S) and rank
+ * the cells anew.  The particles must be sorted again. */
+void psim_grid_cut(psim_grid *g, const int32_t *cut_x, const int32_t *cut_y);
+/* Whether cut[0..TG] cuts G cells into TG columns of at least one cell. */
+int psim_grid_cuts_ok(const int32_t *cut, int TG, int G);
 
 /* Cell coordinate of position v along an axis whose grid starts at origin. */
 static inline int psim_grid_coord(const psim_grid *g, double v, double origin)
@@ -91,8 +106,7 @@ static inline uint32_t psim_grid_forward(const psim_grid *g, int cx, int cy, int
 
 static inline uint32_t psim_grid_tile_of_cell(const psim_grid *g, uint32_t cell)
 {
-    int tx = g->cell_x[cell] >> g->tile_shift, ty = g->cell_y[cell] >> g->tile_shift;
-    return g->tile_of_xy[ty * g->TG + tx];
+    return g->tile_of_xy[g->trow[g->cell_y[cell]] * g->TG + g->tcol[g->cell_x[cell]]];
 }
 
 #endif

@@ -117,6 +117,11 @@ int psim_engine_grid_tiles(struct psim_sim *e, double reach, const double *bbox,
 /* Tiles of about `particles` particles (0: PSIM_TILE_PARTICLES) in the
  * grids planned from now on with tile_cells 0, unless the run set --tile. */
 void psim_engine_tile_particles(struct psim_sim *e, double particles);
+/* Cut the grid's tiles at cell columns cut_x[0..TG] and rows cut_y[0..TG]
+ * (psim_grid_cut; NULL: the default cuts) and rank its cells anew: the
+ * next sort follows them.  Restart files carry the cuts, so a model whose
+ * results follow its tiles may choose them from what its steps did. */
+void psim_engine_grid_cut(struct psim_sim *e, const int32_t *cut_x, const int32_t *cut_y);
 /* Sort the store by cell now (after a re-plan), timed as the sort. */
 void psim_engine_sort(struct psim_sim *e);
 /* Value of the model's option called name (one of its options[]), or dflt

@@ -30,6 +30,8 @@ int psim_engine_restart_init(psim_sim *e, psim_scene *sc)
         e->grid_saved = 1;
         e->grid_saved_bbox = rs->grid_has_bbox;
         memcpy(e->grid_saved_ask, rs->grid, sizeof rs->grid);
+        e->ncuts_saved = rs->ncuts;
+        memcpy(e->cuts_saved, rs->cuts, (size_t)rs->ncuts * sizeof *rs->cuts);
     }
     if (e->model->follows_order && rs->order && e->n > 0) {
         e->restart_order = malloc((size_t)e->n * sizeof *e->restart_order);
@@ -89,6 +91,18 @@ static int put_numbers(FILE *f, const char *key, const double *v, int n)
     return 0;
 }
 
+/* " cuts=X0,...,XTG,Y0,...,YTG": the tiles' cuts, where a model chose them. */
+static int put_cuts(FILE *f, const psim_grid *g)
+{
+    if (2 * (g->TG + 1) > PSIM_RESTART_CUTS)
+        return 0;   /* (never chosen: psim_grid_cut's callers stay below) */
+    for (int a = 0; a < 2; a++)
+        for (int j = 0; j <= g->TG; j++)
+            if (fprintf(f, "%s%d", a + j ? "," : " cuts=", (int)(a ? g->cut_y : g->cut_x)[j]) < 0)
+                return -1;
+    return 0;
+}
+
 static int put_header(FILE *f, const psim_sim *e, long steps)
 {
     const psim_model *m = e->model;
@@ -108,6 +122,8 @@ static int put_header(FILE *f, const psim_sim *e, long steps)
     for (int k = 0; k < ng; k++)
         finite &= isfinite(e->grid_ask[k]) != 0;
     if (finite && put_numbers(f, "grid", e->grid_ask, ng))
+        return -1;
+    if (finite && e->has_grid && e->grid.cut && put_cuts(f, &e->grid))
         return -1;
     for (int k = 0, any = 0; k < e->stats.nvalues; k++) {
         if (!isfinite(e->stats.value[k]))

@@ -1,6 +1,7 @@
 /* The parts of a restart file (--restart) beyond a scene: its first line,
  *   #psim restart 1 model=NAME step=K [format=2024|2019|cs267] [print=0|1]
  *                   [options=K=V,...] [grid=REACH,OCC,TILE[,X0,Y0,X1,Y1]]
+ *                   [cuts=X0,...,XT,Y0,...,YT]
  *                   [values=NAME:V,...] [columns=NAME,...]
  * and the order of its particle lines (the run's own order, which the
  * discrete model's results follow).  The scene reader calls these; the
@@ -63,6 +64,24 @@ static int column_names(psim_restart *rs, const char *v)
             return -1;
     }
     return rs->ncols > 0 ? 0 : -1;
+}
+
+/* X0,...,XT,Y0,...,YT: the tiles' cuts (the engine checks them against its
+ * grid: a plan that no longer fits is left at its default cuts). */
+static int cut_list(psim_restart *rs, const char *v)
+{
+    rs->ncuts = 0;
+    while (*v) {
+        char *end;
+        errno = 0;
+        long c = strtol(v, &end, 10);
+        if (end == v || errno || c < 0 || c > INT32_MAX || (*end && *end != ',') ||
+            rs->ncuts == PSIM_RESTART_CUTS || (*end && !end[1]))
+            return -1;
+        rs->cuts[rs->ncuts++] = (int32_t)c;
+        v = *end ? end + 1 : end;
+    }
+    return rs->ncuts >= 4 && rs->ncuts % 2 == 0 ? 0 : -1;
 }
 
 /* NAME:V,NAME:V: the model's values. */
@@ -134,6 +153,10 @@ static int header_key(psim_scene *sc, const char *tok, size_t len, const char *n
                        "grid must be REACH,OCC,TILE or REACH,OCC,TILE,X0,Y0,X1,Y1, got", v);
         rs->has_grid = 1;
         rs->grid_has_bbox = k == 7;
+    } else if (!strcmp(t, "cuts")) {
+        if (cut_list(rs, v))
+            return bad(err, name, line,
+                       "cuts must be 2 (T + 1) increasing cell numbers (0,...,G,0,...,G), got", v);
     } else if (!strcmp(t, "values")) {
         if (value_list(rs, v))
             return bad(err, name, line, "values must be NAME:NUMBER,..., got", v);

@@ -115,7 +115,7 @@ half_stencil_of(const psim_grid *g, uint32_t c, int tx, int ty, dlist *in, dlist
         if (nb == 0)
             continue;
         s->nbs += nb;
-        int dtx = (nx >> g->tile_shift) - tx, dty = (ny >> g->tile_shift) - ty;
+        int dtx = g->tcol[nx] - tx, dty = g->trow[ny] - ty;
         int d = (dtx + 1) + 3 * (dty + 1);
         s->cell[s->n] = c2;
         s->to[s->n++] = d == 4 ? in : &cross[d];

@@ -118,6 +118,7 @@ static void destroy(void *p)
     psim_free(m->border);
     psim_free(m->flag);
     psim_free(m->nearwall);
+    psim_free(m->work);
     discrete_parts_free(m);
     free(m);
 }
@@ -129,6 +130,7 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
     if (!m)
         goto oom;
     m->regrid = psim_engine_option(e, "regrid", 1) != 0;
+    m->balance = psim_engine_option(e, "balance", 1) != 0;
     m->simd = psim_engine_option(e, "simd", 1) != 0 && psim_have_avx512();
     psim_engine_tile_particles(e, DISCRETE_TILE_PARTICLES);
     /* cells wider than 2r over the region the disks occupy: contacts are
@@ -147,7 +149,9 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
     m->border = psim_calloc((size_t)e->n + 1);
     m->flag = psim_calloc((size_t)e->n + 1);
     m->nearwall = psim_calloc((size_t)e->n + 1);
-    if (!m->active || !m->border || !m->flag || !m->nearwall || tile_state_build(e, m))
+    m->work = psim_calloc(((size_t)e->n + 1) * sizeof *m->work);
+    if (!m->active || !m->border || !m->flag || !m->nearwall || !m->work ||
+        tile_state_build(e, m))
         goto oom;
     return m;
 oom:
@@ -207,6 +211,13 @@ static int interact(psim_sim *e, void *p, psim_error *err)
             g.x0, g.x1, g.y0, g.y1, g.first_id);
         return -1;
     }
+    PSIM_TIMED(e, PSIM_PHASE_SORT, rc = discrete_balance(e, m));
+    if (rc > 0)
+        rc = tile_state_build(e, m);
+    if (rc < 0) {
+        psim_error_set(err, "out of memory for the tiles at step %ld", e->step + 1);
+        return -1;
+    }
     return 0;
 }
 
@@ -219,6 +230,9 @@ static void step_summary(FILE *f, const psim_stats *st)
             (double)c[DC_CONTACTS] / steps, (double)c[DC_ROUNDS] / steps,
             (unsigned long long)c[DC_MAX_ROUNDS], (double)c[DC_PAIR_RES] / steps,
             (double)c[DC_WALL_RES] / steps, (double)c[DC_TASKS] / steps);
+    if (c[DC_CUTS])
+        fprintf(f, "  tiles cut anew %llu times, where the work was\n",
+                (unsigned long long)c[DC_CUTS]);
     if (c[DC_REGRIDS])
         fprintf(f, "  grid planned again %llu times: the disks left it or gathered inside it\n",
                 (unsigned long long)c[DC_REGRIDS]);
@@ -231,13 +245,15 @@ const psim_model psim_model_discrete = {
     .thermo = {"pair_resolutions", "wall_resolutions", NULL},
     .counters = {"contacts", "rounds", "max_rounds", "pair_checks", "pair_resolutions",
                  "wall_resolutions", "tasks", "max_step_resolutions", "search_tests", "regrids",
-                 NULL},
+                 "tile_cuts", NULL},
     .options = {{"settle", "resolutions a step may take per disk before the run stops "
                            "(default 1000)", 1, 1e9},
                 {"simd", "0: contact search without AVX-512 even where the CPU has it "
                          "(same results)", 0, 1},
                 {"regrid", "0: plan the grid once, over the disks' bounding box at the start, "
                            "and keep it (default 1: follow the disks)", 0, 1},
+                {"balance", "0: tiles of the grid's square blocks of cells (default 1: "
+                            "cut where the work is, every 8 steps)", 0, 1},
                 {"gens", "generations of its worklist a tile resolves in a round, before "
                          "the contacts across tiles (default 1; 0: to its fixpoint)", 0, 1e9},
                 PSIM_SKIP_OPTION,

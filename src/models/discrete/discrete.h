@@ -36,7 +36,8 @@
 /* The model's own phases and logged quantities (psim_stats). */
 enum { DPHASE_CONTACTS = PSIM_PHASE_MODEL, DPHASE_RESOLVE };
 enum { DC_CONTACTS, DC_ROUNDS, DC_MAX_ROUNDS, DC_PAIR_CHECKS, DC_PAIR_RES,
-       DC_WALL_RES, DC_TASKS, DC_MAX_STEP_RES, DC_SEARCH_TESTS, DC_REGRIDS };
+       DC_WALL_RES, DC_TASKS, DC_MAX_STEP_RES, DC_SEARCH_TESTS, DC_REGRIDS,
+       DC_CUTS };
 
 /* A contact: disks i < j in store order.  Positions are frozen while
  * collisions are resolved, so dp = p_j - p_i is recomputed from them when
@@ -155,6 +156,10 @@ typedef struct dmodel {
                               * --option simd, default 1 where the CPU has it) */
     int regrid;              /* the grid follows the disks (regrid.c; --option
                               * regrid, default 1) */
+    int balance;             /* tiles cut where the work is (balance.c;
+                              * --option balance, default 1) */
+    uint32_t *work;          /* per disk, on a step that counts: its work */
+    uint32_t *counting;      /* work, on such a step; else NULL */
     /* one tile's resolution in parts, one a thread (resolve.c) */
     uint32_t *part_seen;     /* per disk: the stamp of the walk that met it */
     uint32_t part_stamp;
@@ -187,6 +192,16 @@ typedef struct dgroup {
 } dgroup;
 
 void discrete_find_contacts(psim_sim *e, dmodel *m);
+/* balance.c: every BAL_EVERY steps, tiles cut anew where that step's work
+ * was, when that lowers the heaviest tile's work by BAL_GAIN or more. */
+#define BAL_EVERY 8
+#define BAL_GAIN 0.9
+/* Whether this step counts its work (m->work) for a decision. */
+int discrete_balance_counts(const psim_sim *e, const dmodel *m);
+/* After the step's resolution: 1 when the tiles were cut anew (make the
+ * tile state anew; the next sort follows them), 0 when not, -1 when out
+ * of memory. */
+int discrete_balance(psim_sim *e, dmodel *m);
 /* regrid.c: the grid over the region the disks occupy (at the start), and
  * again when they leave it or gather far inside it.  discrete_regrid runs
  * after the sort: 1 when it planned the grid again (sort again, and size

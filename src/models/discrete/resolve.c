@@ -75,6 +75,7 @@ static void worklist(const psim_sim *e, dmodel *m, dtile *t, int first, wpart *w
     uint64_t checks = 0, pres = 0, wres = 0;
     const uint64_t budget = m->budget;
     const uint8_t *border = m->border;
+    uint32_t *const count = m->counting;   /* the pops, on a step that counts */
     int bchg = 0;   /* a disk with contacts across tiles changed */
 
     /* the first round: every disk of the tile; later rounds: the few that
@@ -122,6 +123,8 @@ static void worklist(const psim_sim *e, dmodel *m, dtile *t, int first, wpart *w
             break;
         }
         uint32_t i = wl_pop(&w);
+        if (count)
+            count[i]++;
         int full = flag[i] & F_CHANGED, changed = 0;
         flag[i] = F_SEEN;
         const double xi = x[i], yi = y[i];
@@ -214,6 +217,8 @@ static uint64_t cross_pass(const psim_sim *e, dmodel *m, const dlist *l, dtile *
                               &vx[c->j], &vy[c->j]);
             activate(m, a, b, (uint32_t)c->i);
             activate(m, a, b, (uint32_t)c->j);
+            if (m->counting)
+                m->counting[c->i]++, m->counting[c->j]++;
             res++;
         }
     }
@@ -519,6 +524,7 @@ __attribute__((noinline)) int discrete_resolve(psim_sim *e, dmodel *m)
         t->diverged = 0;
     }
     mark_border(m, 1);
+    m->counting = discrete_balance_counts(e, m) ? m->work : NULL;
 #pragma omp parallel num_threads(e->threads) if (e->threads > 1)
 #pragma omp single
     {
