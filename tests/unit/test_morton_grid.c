@@ -54,6 +54,59 @@ static void test_grid_ranks(void)
     psim_grid_free(&g);
 }
 
+/* Tiles cut elsewhere: each tile one contiguous rank range, in the tiles'
+ * Morton order, its cells in Morton order of their offsets; the default
+ * cuts give the dense Morton ranks back; bad cuts are refused. */
+static void test_grid_cuts(void)
+{
+    psim_grid g;
+    CHECK(psim_grid_init(&g, 100.0, 1.0, 2.0 * (1.0), 10000, 16, NULL) == 0);
+    CHECK(g.TG == (g.G + 15) / 16 && g.TG >= 3);
+    uint32_t *dense = malloc(g.ncells * sizeof *dense);
+    for (uint32_t c = 0; c < g.ncells; c++)
+        dense[c] = g.rank_of_xy[g.cell_y[c] * g.G + g.cell_x[c]];
+    int32_t cx[8], cy[8];
+    for (int j = 0; j <= g.TG; j++) {   /* uneven: 1 cell, then most, then the rest */
+        cx[j] = j == 0 ? 0 : j == g.TG ? g.G : j == 1 ? 1 : g.G - (g.TG - j) * 3;
+        cy[j] = j == 0 ? 0 : j == g.TG ? g.G : g.G - (g.TG - j) * 2;
+    }
+    CHECK(psim_grid_cuts_ok(cx, g.TG, g.G) && psim_grid_cuts_ok(cy, g.TG, g.G));
+    psim_grid_cut(&g, cx, cy);
+    CHECK(g.cut);
+    CHECK(g.tile_cell0[0] == 0 && g.tile_cell0[g.ntiles] == g.ncells);
+    uint32_t seen = 0;
+    for (uint32_t t = 0; t < g.ntiles; t++) {
+        int tx = g.tile_x[t], ty = g.tile_y[t];
+        uint32_t want = (uint32_t)(cx[tx + 1] - cx[tx]) * (uint32_t)(cy[ty + 1] - cy[ty]);
+        CHECK(g.tile_cell0[t + 1] - g.tile_cell0[t] == want);
+        uint64_t prev = 0;
+        for (uint32_t c = g.tile_cell0[t]; c < g.tile_cell0[t + 1]; c++, seen++) {
+            CHECK(psim_grid_tile_of_cell(&g, c) == t);
+            CHECK(g.cell_x[c] >= cx[tx] && g.cell_x[c] < cx[tx + 1]);
+            CHECK(g.cell_y[c] >= cy[ty] && g.cell_y[c] < cy[ty + 1]);
+            CHECK(g.rank_of_xy[g.cell_y[c] * g.G + g.cell_x[c]] == c);
+            uint64_t key = psim_morton_encode((uint32_t)(g.cell_x[c] - cx[tx]),
+                                              (uint32_t)(g.cell_y[c] - cy[ty]));
+            CHECK(c == g.tile_cell0[t] || key > prev);
+            prev = key;
+        }
+    }
+    CHECK(seen == g.ncells);
+    psim_grid_cut(&g, NULL, NULL);   /* the default cuts: the dense Morton ranks */
+    CHECK(!g.cut);
+    for (uint32_t c = 0; c < g.ncells; c++)
+        CHECK(g.rank_of_xy[g.cell_y[c] * g.G + g.cell_x[c]] == c && dense[c] == c);
+    for (uint32_t c = 0; c < g.ncells; c++)
+        CHECK(psim_grid_tile_of_cell(&g, c) ==
+              g.tile_of_xy[(g.cell_y[c] >> 4) * g.TG + (g.cell_x[c] >> 4)]);
+    cx[1] = 0;   /* an empty column of tiles */
+    CHECK(!psim_grid_cuts_ok(cx, g.TG, g.G));
+    cx[1] = 1, cx[g.TG] = g.G + 1;   /* past the grid */
+    CHECK(!psim_grid_cuts_ok(cx, g.TG, g.G));
+    free(dense);
+    psim_grid_free(&g);
+}
+
 static void test_grid_clamp(void)
 {
     psim_grid g;
@@ -129,6 +182,7 @@ int main(void)
 {
     test_morton();
     test_grid_ranks();
+    test_grid_cuts();
     test_grid_clamp();
     test_grid_bbox();
     return check_done();
