@@ -98,8 +98,8 @@ typedef struct dstencil {
 } dstencil;
 
 static inline __attribute__((always_inline)) void
-half_stencil_of(const psim_grid *g, uint32_t c, int tx, int ty, dlist *in, dlist *cross,
-                dstencil *s)
+half_stencil_of(const psim_grid *g, uint32_t c, int tx, int ty, uint32_t t0, uint32_t tn,
+                dlist *in, dlist *cross, dstencil *s)
 {
     s->n = 1;
     s->cell[0] = c;
@@ -115,10 +115,13 @@ half_stencil_of(const psim_grid *g, uint32_t c, int tx, int ty, dlist *in, dlist
         if (nb == 0)
             continue;
         s->nbs += nb;
-        int dtx = g->tcol[nx] - tx, dty = g->trow[ny] - ty;
-        int d = (dtx + 1) + 3 * (dty + 1);
         s->cell[s->n] = c2;
-        s->to[s->n++] = d == 4 ? in : &cross[d];
+        if (c2 - t0 < tn) {   /* the tile's own cells are one rank range */
+            s->to[s->n++] = in;
+            continue;
+        }
+        int dtx = g->tcol[nx] - tx, dty = g->trow[ny] - ty;
+        s->to[s->n++] = &cross[(dtx + 1) + 3 * (dty + 1)];
     }
 }
 
@@ -282,13 +285,14 @@ search_cells(const psim_sim *e, const dmodel *m, uint32_t tid, uint32_t c0, uint
     const psim_grid *g = &e->grid;
     int bad = 0;
     int tx = g->tile_x[tid], ty = g->tile_y[tid];
+    const uint32_t t0 = g->tile_cell0[tid], tn = g->tile_cell0[tid + 1] - t0;
     uint64_t looked = 0;
     for (uint32_t c = c0; c < c1 && !bad; c++) {
         uint32_t na = g->cellstart[c + 1] - g->cellstart[c];
         if (na == 0)
             continue;
         dstencil s;
-        half_stencil_of(g, c, tx, ty, in, cross, &s);
+        half_stencil_of(g, c, tx, ty, t0, tn, in, cross, &s);
         looked += (uint64_t)na * (na - 1) / 2 + na * s.nbs;
 #if PSIM_AVX512
         if (m->simd) {
