@@ -196,6 +196,7 @@ void discrete_find_contacts(psim_sim *e, dmodel *m);
  * was, when that lowers the heaviest tile's work by BAL_GAIN or more. */
 #define BAL_EVERY 8
 #define BAL_GAIN 0.9
+#define BAL_SHARE 0.125
 /* Whether this step counts its work (m->work) for a decision. */
 int discrete_balance_counts(const psim_sim *e, const dmodel *m);
 /* After the step's resolution: 1 when the tiles were cut anew (make the
