@@ -56,7 +56,8 @@ typedef struct wpart {
  * contacts; a disk popped unchanged tests only contacts with disks not yet
  * popped this step (F_SEEN), because every other pair was tested at the
  * later disk's last pop and a disk that changed since is queued again. */
-static void worklist(const psim_sim *e, dmodel *m, dtile *t, int first, wpart *wp)
+static inline __attribute__((always_inline)) void
+worklist_of(const psim_sim *e, dmodel *m, dtile *t, int first, wpart *wp, const int counts)
 {
     double *restrict vx = e->st.vx, *restrict vy = e->st.vy;
     const double *x = e->st.x, *y = e->st.y;
@@ -76,6 +77,7 @@ static void worklist(const psim_sim *e, dmodel *m, dtile *t, int first, wpart *w
     const uint64_t budget = m->budget;
     const uint8_t *border = m->border;
     uint32_t *const count = m->counting;   /* the pops, on a step that counts */
+    (void)count;
     int bchg = 0;   /* a disk with contacts across tiles changed */
 
     /* the first round: every disk of the tile; later rounds: the few that
@@ -123,7 +125,7 @@ static void worklist(const psim_sim *e, dmodel *m, dtile *t, int first, wpart *w
             break;
         }
         uint32_t i = wl_pop(&w);
-        if (count)
+        if (counts)
             count[i]++;
         int full = flag[i] & F_CHANGED, changed = 0;
         flag[i] = F_SEEN;
@@ -167,6 +169,16 @@ static void worklist(const psim_sim *e, dmodel *m, dtile *t, int first, wpart *w
     wp->checks = checks, wp->pres = pres, wp->wres = wres;
     wp->bchg = (uint8_t)bchg;
     wp->tid = omp_get_thread_num();
+}
+
+/* The worklist of a step that counts its work (balance.c) and of one that
+ * does not: two copies, so that the usual step's loop is the plain one. */
+static void worklist(const psim_sim *e, dmodel *m, dtile *t, int first, wpart *wp)
+{
+    if (m->counting)
+        worklist_of(e, m, t, first, wp, 1);
+    else
+        worklist_of(e, m, t, first, wp, 0);
 }
 
 /* What a tile's worklists did, to the tile. */
