@@ -148,6 +148,7 @@ int psim_engine_grid_tiles(psim_sim *e, double reach, const double *bbox, double
     e->stats.tiles = (int)e->grid.ntiles;
     return 0;
 }
+
 void psim_engine_grid_cut(psim_sim *e, const int32_t *cut_x, const int32_t *cut_y)
 {
     psim_grid_cut(&e->grid, cut_x, cut_y);

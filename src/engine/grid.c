@@ -76,6 +76,7 @@ static void rank_quadrant(psim_grid *g, int x0, int y0, int w, int h, int qx, in
         rank_quadrant(g, x0, y0, w, h, qx + (k & 1) * half, qy + (k >> 1) * half, level - 1,
                       next);
 }
+
 static int bits_for(int W)
 {
     int b = 0;
@@ -136,8 +137,8 @@ int psim_grid_init_occ(psim_grid *g, double L, double r, double reach, long n,
     g->cut_y = psim_alloc(((size_t)g->TG + 1) * sizeof *g->cut_y);
     g->tcol = psim_alloc((size_t)g->G * sizeof *g->tcol);
     g->trow = psim_alloc((size_t)g->G * sizeof *g->trow);
-    if (!g->cut_x || !g->cut_y || !g->tcol || !g->trow || !g->rank_of_xy || !g->cell_x || !g->cell_y || !g->cellstart ||
-        !g->tile_of_xy || !g->tile_x || !g->tile_y || !g->tile_cell0 ||
+    if (!g->cut_x || !g->cut_y || !g->tcol || !g->trow || !g->rank_of_xy || !g->cell_x ||
+        !g->cell_y || !g->cellstart || !g->tile_of_xy || !g->tile_x || !g->tile_y || !g->tile_cell0 ||
         !g->tile_wall) {
         psim_grid_free(g);
         return -1;

@@ -10,8 +10,8 @@
  * (psim_grid_cut: the same TG x TG tiles, each column and row of tiles as
  * wide as it chooses); cells are then ranked tile by tile, in the tiles'
  * Morton order, and in Morton order within each tile, which for the
- * default cuts is the dense Morton rank itself.  The grid spans the region its model asks for
- * (the discrete model: where its disks are, planned again as they move, so
+ * default cuts is the dense Morton rank itself.  The grid spans the region
+ * its model asks for (the discrete model: where its disks are, planned again as they move, so
  * a cluster in a corner of a huge box still gets small cells:
  * src/models/discrete/regrid.c); positions outside it are clamped into the
  * border cells, which keeps adjacent disks in adjacent cells. */
