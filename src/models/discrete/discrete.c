@@ -231,8 +231,8 @@ static void step_summary(FILE *f, const psim_stats *st)
             (unsigned long long)c[DC_MAX_ROUNDS], (double)c[DC_PAIR_RES] / steps,
             (double)c[DC_WALL_RES] / steps, (double)c[DC_TASKS] / steps);
     if (c[DC_CUTS])
-        fprintf(f, "  tiles cut anew %llu times, where the work was\n",
-                (unsigned long long)c[DC_CUTS]);
+        fprintf(f, "  tiles cut anew %llu time%s, where the work was\n",
+                (unsigned long long)c[DC_CUTS], c[DC_CUTS] == 1 ? "" : "s");
     if (c[DC_REGRIDS])
         fprintf(f, "  grid planned again %llu times: the disks left it or gathered inside it\n",
                 (unsigned long long)c[DC_REGRIDS]);
