@@ -17,9 +17,9 @@
  * to BAL_GAIN of it or less, compared on the same step's work.  Cuts cost
  * resolutions where they cross the work (100k_density_0.9, 36 tiles cut
  * at every chance: +5.8%), so scenes of many tiles, none of them heavy,
- * keep theirs.  The
- * tiles stay a TG x TG grid (the grid's own count: the scene's, never the
- * thread count's), so their neighbours and edges are as before.
+ * keep theirs.  The tiles stay a TG x TG grid (the grid's own count: the
+ * scene's, never the thread count's), so their neighbours and edges are as
+ * before.
  *
  * Everything here is a function of exact counts of the scene's steps and of
  * the current cuts: the same cuts for any thread count, and a restart file
@@ -29,19 +29,19 @@
 #include "discrete.h"
 #include "../../engine/mem.h"
 
-/* On a plain step nothing is counted; the step before a decision counts. */
+/* On a plain step nothing is counted; the step before a decision counts
+ * (never where the cuts would not fit a restart file's header). */
 int discrete_balance_counts(const psim_sim *e, const dmodel *m)
 {
-    return m->balance && m->ntiles > 1 && (e->step + 1) % BAL_EVERY == 0;
+    return m->balance && m->ntiles > 1 && 2 * (e->grid.TG + 1) <= PSIM_RESTART_CUTS &&
+           (e->step + 1) % BAL_EVERY == 0;
 }
 
 /* cut[0..TG]: cut[j] the first column whose cumulative work before it
  * reaches j / TG of the total, each column of tiles at least one cell. */
-static void quantile_cuts(const double *w, int G, int TG, int32_t *cut)
+static void quantile_cuts(const double *w, double total, int G, int TG, int32_t *cut)
 {
-    double total = 0, run = 0;
-    for (int c = 0; c < G; c++)
-        total += w[c];
+    double run = 0;
     cut[0] = 0;
     cut[TG] = G;
     int c = 0;
@@ -79,9 +79,10 @@ static double heaviest(const double *w, int G, int TG, const int32_t *cx, const 
 }
 
 /* The work counted this step, by cell (w[cy * G + cx]) and by column and
- * row; the counts are cleared for the next time. */
-static void work_by_cell(const psim_sim *e, dmodel *m, double *w, double *col, double *row)
+ * row; the counts are cleared for the next time.  Returns the total. */
+static double work_by_cell(const psim_sim *e, dmodel *m, double *w, double *col, double *row)
 {
+    double total = 0;
     const psim_grid *g = &e->grid;
     const int G = g->G;
     memset(col, 0, (size_t)G * sizeof *col);
@@ -96,7 +97,9 @@ static void work_by_cell(const psim_sim *e, dmodel *m, double *w, double *col, d
         w[(size_t)y * G + x] = s;
         col[x] += s;
         row[y] += s;
+        total += s;
     }
+    return total;
 }
 
 int discrete_balance(psim_sim *e, dmodel *m)
@@ -105,8 +108,6 @@ int discrete_balance(psim_sim *e, dmodel *m)
         return 0;
     const psim_grid *g = &e->grid;
     const int G = g->G, TG = g->TG;
-    if (2 * (TG + 1) > PSIM_RESTART_CUTS)
-        return 0;
     size_t cells = (size_t)G * G;
     double *w = psim_alloc((cells + 2 * (size_t)G + (size_t)TG * TG) * sizeof *w);
     int32_t *cut = psim_alloc(2 * ((size_t)TG + 1) * sizeof *cut);
@@ -114,14 +115,11 @@ int discrete_balance(psim_sim *e, dmodel *m)
     if (!w || !cut)
         goto done;
     double *col = w + cells, *row = col + G, *load = row + G;
-    work_by_cell(e, m, w, col, row);
-    quantile_cuts(col, G, TG, cut);
-    quantile_cuts(row, G, TG, cut + TG + 1);
+    double total = work_by_cell(e, m, w, col, row);
+    quantile_cuts(col, total, G, TG, cut);
+    quantile_cuts(row, total, G, TG, cut + TG + 1);
     double now = heaviest(w, G, TG, g->cut_x, g->cut_y, load);
     double then = heaviest(w, G, TG, cut, cut + TG + 1, load);
-    double total = 0;
-    for (int c = 0; c < G; c++)
-        total += col[c];
     changed = now > BAL_SHARE * total && then < BAL_GAIN * now;
     if (changed) {
         psim_engine_grid_cut(e, cut, cut + TG + 1);

@@ -193,7 +193,8 @@ typedef struct dgroup {
 
 void discrete_find_contacts(psim_sim *e, dmodel *m);
 /* balance.c: every BAL_EVERY steps, tiles cut anew where that step's work
- * was, when that lowers the heaviest tile's work by BAL_GAIN or more. */
+ * was, when the heaviest tile holds more than BAL_SHARE of it and the cut
+ * brings it down to BAL_GAIN of what it was or less. */
 #define BAL_EVERY 8
 #define BAL_GAIN 0.9
 #define BAL_SHARE 0.125

@@ -76,8 +76,7 @@ worklist_of(const psim_sim *e, dmodel *m, dtile *t, int first, wpart *wp, const 
     uint64_t checks = 0, pres = 0, wres = 0;
     const uint64_t budget = m->budget;
     const uint8_t *border = m->border;
-    uint32_t *const count = m->counting;   /* the pops, on a step that counts */
-    (void)count;
+    uint32_t *const count = counts ? m->counting : NULL;   /* the pops (balance.c) */
     int bchg = 0;   /* a disk with contacts across tiles changed */
 
     /* the first round: every disk of the tile; later rounds: the few that
