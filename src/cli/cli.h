@@ -57,6 +57,9 @@ typedef struct outfile {
 } outfile;
 
 int outfile_open(outfile *o, const char *path);
+/* The absolute name of path, whether or not it exists yet, through its
+ * symbolic links (malloc'd; NULL when its folder cannot be found). */
+char *cli_canonical(const char *path);
 /* Close every open file of list, then, if all were written, rename them
  * into place; otherwise remove them all.  One error line on failure. */
 int outfile_commit_all(outfile *const *list, int n);

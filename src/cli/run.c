@@ -128,23 +128,6 @@ static void run_usage(FILE *f)
 "--check, collisions that do not settle), 2 usage.\n");
 }
 
-/* The absolute name of path, whether or not it exists yet (its folder's
- * real path and its own name); NULL when that cannot be found. */
-static char *canonical(const char *path)
-{
-    char *r = realpath(path, NULL);
-    if (r)
-        return r;
-    const char *slash = strrchr(path, '/');
-    char *dir = slash ? strndup(path, (size_t)(slash - path) + 1) : strdup(".");
-    char *rdir = dir ? realpath(dir, NULL) : NULL;
-    char *out = NULL;
-    if (rdir && asprintf(&out, "%s/%s", rdir, slash ? slash + 1 : path) < 0)
-        out = NULL;
-    free(dir), free(rdir);
-    return out;
-}
-
 /* Whether two paths name the same file: the same text, the same existing
  * file (device and inode) under two names, or the same place to be. */
 static int same_file(const char *a, const char *b)
@@ -154,7 +137,7 @@ static int same_file(const char *a, const char *b)
         return 1;
     if (stat(a, &sa) == 0 && stat(b, &sb) == 0)
         return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
-    char *ca = canonical(a), *cb = canonical(b);
+    char *ca = cli_canonical(a), *cb = cli_canonical(b);
     int same = ca && cb && strcmp(ca, cb) == 0;
     free(ca), free(cb);
     return same;
@@ -165,6 +148,56 @@ static int is_stream(const char *path)
 {
     struct stat st;
     return !strcmp(path, "-") || (stat(path, &st) == 0 && !S_ISREG(st.st_mode));
+}
+
+/* The regular file that path writes to, if one exists now: "-" is
+ * standard output, and a name is followed through its links (/dev/stdout,
+ * /proc/self/fd/1); 0 when there is none. */
+static int regular_file(const char *path, int fd, struct stat *st)
+{
+    int ok = !strcmp(path, "-") ? fstat(fd, st) == 0 : stat(path, st) == 0;
+    return ok && S_ISREG(st->st_mode);
+}
+
+static int same_inode(const struct stat *a, const struct stat *b)
+{
+    return a->st_dev == b->st_dev && a->st_ino == b->st_ino;
+}
+
+/* No output may overwrite the scene or another output: not by the same
+ * name, not through a link, nor through standard input or output
+ * redirected to the same file; and standard output takes one output. */
+static int check_outputs(const run_opts *o)
+{
+    static const char names[] =
+        "(--out, --trace, --final, --stats, --thermo-file, --dump, --restart)";
+    const char *files[RUN_OUTPUTS];
+    output_paths(o, files);
+    struct stat in, fa, fb;
+    int in_ok = o->scene && regular_file(o->scene, 0, &in);
+    for (int a = 0; a < RUN_OUTPUTS; a++) {
+        if (!files[a])
+            continue;
+        int a_ok = regular_file(files[a], 1, &fa);
+        for (int b = a + 1; b < RUN_OUTPUTS; b++) {
+            if (!files[b])
+                continue;
+            int twice = !strcmp(files[a], "-") && !strcmp(files[b], "-");
+            if (twice || (!is_stream(files[a]) && same_file(files[a], files[b])) ||
+                (a_ok && regular_file(files[b], 1, &fb) && same_inode(&fa, &fb))) {
+                fprintf(stderr, "psim: '%s' is named for two outputs %s\n", files[a], names);
+                return 2;
+            }
+        }
+        if ((o->scene && strcmp(o->scene, "-") && !is_stream(files[a]) &&
+             same_file(files[a], o->scene)) ||
+            (in_ok && a_ok && same_inode(&fa, &in))) {
+            fprintf(stderr, "psim: '%s' is the scene: an output must not overwrite it\n",
+                    files[a]);
+            return 2;
+        }
+    }
+    return 0;
 }
 
 static int known_model(const char *name)
@@ -354,23 +387,7 @@ static int parse_run(int argc, char **argv, run_opts *o)
         }
         o->threads = t;
     }
-    const char *files[RUN_OUTPUTS];
-    output_paths(o, files);
-    for (int a = 0; a < RUN_OUTPUTS; a++) {
-        for (int b = a + 1; b < RUN_OUTPUTS; b++)
-            if (files[a] && files[b] && same_file(files[a], files[b]) && !is_stream(files[a])) {
-                fprintf(stderr, "psim: '%s' is named for two outputs (--out, --trace, --final, "
-                                "--stats, --thermo-file, --dump, --restart)\n", files[a]);
-                return 2;
-            }
-        if (files[a] && o->scene && !is_stream(files[a]) && strcmp(o->scene, "-") &&
-            same_file(files[a], o->scene)) {
-            fprintf(stderr, "psim: '%s' is the scene: an output must not overwrite it\n",
-                    files[a]);
-            return 2;
-        }
-    }
-    return 0;
+    return check_outputs(o);
 }
 
 static int default_scene(psim_scene *sc, psim_error *err)
@@ -732,6 +749,12 @@ int cli_run(int argc, char **argv)
     double t_read = psim_now();
     if (load_scene(&o, &sc, &err)) {
         fprintf(stderr, "psim: %s\n", err.msg);
+        rc = err.usage ? 2 : 1;
+        goto done;
+    }
+    if (sc.restart.present && !known_model(sc.restart.model)) {
+        fprintf(stderr, "psim: %s:1: restart header: unknown model '%s' (psim models lists them)\n",
+                sc.source ? sc.source : "<stdin>", sc.restart.model);
         goto done;
     }
     o.read_s = psim_now() - t_read;

@@ -1,4 +1,5 @@
 #include <errno.h>
+#include <limits.h>
 #include <sched.h>
 #include <signal.h>
 #include <math.h>
@@ -203,6 +204,56 @@ void cli_bad_option(const char *cmd, char **argv, int c)
                 name, sp, sub);
 }
 
+/* Where a symbolic link points, as a path from the link's folder; NULL
+ * when path is not a link. */
+static char *link_target(const char *path)
+{
+    struct stat st;
+    if (lstat(path, &st) || !S_ISLNK(st.st_mode))
+        return NULL;
+    char buf[PATH_MAX];
+    ssize_t k = readlink(path, buf, sizeof buf - 1);
+    if (k <= 0)
+        return NULL;
+    buf[k] = '\0';
+    const char *slash = strrchr(path, '/');
+    char *out = NULL;
+    if (buf[0] == '/' || !slash)
+        return strdup(buf);
+    if (asprintf(&out, "%.*s/%s", (int)(slash - path), path, buf) < 0)
+        return NULL;
+    return out;
+}
+
+char *cli_canonical(const char *path)
+{
+    char *r = realpath(path, NULL);
+    if (r)
+        return r;
+    /* a link to a file not made yet: its target (at most 40 links, as the
+     * kernel follows) */
+    char *p = strdup(path), *t = NULL;
+    for (int hop = 0; p && hop <= 40 && (t = link_target(p)); hop++) {
+        free(p);
+        p = t;
+    }
+    if (t) {   /* still a link after 40 */
+        free(p);
+        errno = ELOOP;
+        return NULL;
+    }
+    if (!p)
+        return NULL;
+    const char *slash = strrchr(p, '/');
+    char *dir = slash ? strndup(p, (size_t)(slash - p) + 1) : strdup(".");
+    char *rdir = dir ? realpath(dir, NULL) : NULL;
+    char *out = NULL;
+    if (rdir && asprintf(&out, "%s/%s", rdir, slash ? slash + 1 : p) < 0)
+        out = NULL;
+    free(dir), free(rdir), free(p);
+    return out;
+}
+
 int outfile_open(outfile *o, const char *path)
 {
     memset(o, 0, sizeof *o);
@@ -227,8 +278,9 @@ int outfile_open(outfile *o, const char *path)
         fprintf(stderr, "psim: %s: cannot write: the file is read-only\n", path);
         return -1;
     }
-    /* a symbolic link is followed: the file it names is replaced */
-    o->path = exists ? realpath(path, NULL) : strdup(path);
+    /* a symbolic link is followed, even to a file not made yet: the file
+     * it names is written */
+    o->path = cli_canonical(path);
     size_t len = o->path ? strlen(o->path) + 16 : 0;
     o->tmp = o->path ? malloc(len) : NULL;
     if (!o->tmp) {

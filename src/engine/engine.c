@@ -231,6 +231,16 @@ static int parse_options(psim_sim *e, const char *text, psim_error *err)
     return 0;
 }
 
+/* A bad option in a restart file's header is the file's fault, not the
+ * command line's: its name and line (the header is line 1) go first. */
+static void restart_option_error(const psim_scene *sc, psim_error *err)
+{
+    char msg[sizeof err->msg];
+    memcpy(msg, err->msg, sizeof msg);
+    psim_error_set(err, "%s:1: restart header: %s", sc->source ? sc->source : "<restart>", msg);
+    err->usage = 0;
+}
+
 double psim_engine_option(const psim_sim *e, const char *name, double dflt)
 {
     int k = option_index(e->model, name, strlen(name));
@@ -254,9 +264,12 @@ psim_sim *psim_engine_create(psim_scene *sc, const psim_config *cfg,
     name_stats(&e->stats, model);
     /* a restart file's options (those of the model that wrote it), then
      * the run's own */
-    if ((sc->restart.present && !strcmp(sc->restart.model, model->name) &&
-         parse_options(e, sc->restart.options, err)) ||
-        parse_options(e, cfg->options, err))
+    if (sc->restart.present && !strcmp(sc->restart.model, model->name) &&
+        parse_options(e, sc->restart.options, err)) {
+        restart_option_error(sc, err);
+        goto fail;
+    }
+    if (parse_options(e, cfg->options, err))
         goto fail;
     if (psim_engine_restart_init(e, sc)) {
         psim_error_set(err, "out of memory for %ld particles", sc->n);

@@ -103,14 +103,11 @@ static int value_list(psim_restart *rs, const char *v)
     return rs->nvalues > 0 ? 0 : -1;
 }
 
-/* One KEY=VALUE of the header into sc. */
-static int header_key(psim_scene *sc, const char *tok, size_t len, const char *name,
-                      long line, psim_error *err)
+/* One KEY=VALUE of the header into sc; t is that text, a copy that may be
+ * cut. */
+static int header_pair(psim_scene *sc, char *t, const char *name, long line, psim_error *err)
 {
     psim_restart *rs = &sc->restart;
-    char t[4096];
-    memcpy(t, tok, len);
-    t[len] = '\0';
     char *v = strchr(t, '=');
     if (!v)
         return bad(err, name, line, "expected KEY=VALUE, got", t);
@@ -169,6 +166,34 @@ static int header_key(psim_scene *sc, const char *tok, size_t len, const char *n
     return 0;
 }
 
+/* One KEY=VALUE of the header (len characters at tok) into sc; *seen holds
+ * the keys given before (a key given twice is an error). */
+static int header_key(psim_scene *sc, const char *tok, size_t len, const char *name,
+                      long line, unsigned *seen, psim_error *err)
+{
+    static const char *const keys[] = {"model", "step",  "format", "print",  "options",
+                                       "grid",  "cuts",  "values", "columns"};
+    char *t = strndup(tok, len);
+    if (!t) {
+        psim_error_set(err, "%s: out of memory", name);
+        return -1;
+    }
+    size_t klen = strcspn(t, "=");
+    for (unsigned k = 0; k < sizeof keys / sizeof *keys; k++)
+        if (strlen(keys[k]) == klen && !strncmp(t, keys[k], klen)) {
+            if (*seen & (1u << k)) {
+                t[klen] = '\0';
+                int rc = bad(err, name, line, "key given twice:", t);
+                free(t);
+                return rc;
+            }
+            *seen |= 1u << k;
+        }
+    int rc = header_pair(sc, t, name, line, err);
+    free(t);
+    return rc;
+}
+
 int psim_restart_header(psim_scene *sc, const char *text, const char *name, long line,
                         psim_error *err)
 {
@@ -178,12 +203,13 @@ int psim_restart_header(psim_scene *sc, const char *text, const char *name, long
         return bad(err, name, line, "expected '#psim restart 1 ...', got", text);
     sc->restart.present = 1;
     const char *p = text + sizeof magic - 1;
+    unsigned seen = 0;
     for (;;) {
         p += strspn(p, " \t\r");
         if (!*p)
             break;
         size_t len = strcspn(p, " \t\r");
-        if (header_key(sc, p, len, name, line, err))
+        if (header_key(sc, p, len, name, line, &seen, err))
             return -1;
         p += len;
     }

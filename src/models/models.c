@@ -69,6 +69,7 @@ int psim_generate_scene(const char *name, long n, uint64_t seed, psim_scene *sc,
     if (!m || !m->generate) {
         psim_error_set(err, "the %s model has no initialisation of its own: give a scene",
                        m ? m->name : name);
+        err->usage = 1;   /* -n with this model: the command line's fault */
         return -1;
     }
     return m->generate(sc, n, seed, err);

@@ -59,7 +59,27 @@ for opt in --out --trace --final --stats; do
     expect_fail --rc 2 "is the scene" "$PSIM" "$opt" "$tmp/./s.in" "$tmp/s.in"
     expect_fail --rc 2 "is the scene" "$PSIM" "$opt" "$tmp/s-link.in" "$tmp/s.in"
 done
+# ... nor through standard input or output bound to the scene's file
+expect_fail --rc 2 "is the scene" sh -c '"$0" -o "$1" - <"$1"' "$PSIM" "$tmp/s.in"
+expect_fail --rc 2 "is the scene" sh -c '"$0" -o /dev/stdin - <"$1"' "$PSIM" "$tmp/s.in"
+expect_fail --rc 2 "is the scene" sh -c '"$0" --final /proc/self/fd/0 - <"$1"' "$PSIM" "$tmp/s.in"
+expect_fail --rc 2 "is the scene" sh -c '"$0" -o - "$1" 1<>"$1"' "$PSIM" "$tmp/s.in"
 same_file "$tmp/s.in" "$tmp/keep.in" "the scene was changed by a refused run"
+# standard output takes one output, also when it is redirected to another
+expect_fail --rc 2 "named for two outputs" "$PSIM" --stats - -o - "$tmp/s.in"
+expect_fail --rc 2 "named for two outputs" sh -c '"$0" -o - --final "$1/o2" "$2" >"$1/o2"' \
+    "$PSIM" "$tmp" "$tmp/s.in"
+# a link to a file not made yet is followed, as a shell's '>' follows it,
+# so it names the file it points to; a loop of links is refused
+ln -s made.txt "$tmp/dangling.txt"
+expect_fail --rc 2 "named for two outputs" "$PSIM" -o "$tmp/made.txt" --final "$tmp/dangling.txt" \
+    "$tmp/s.in"
+run_ok "$PSIM" -q --final "$tmp/dangling.txt" "$tmp/s.in"
+[[ -L $tmp/dangling.txt && -f $tmp/made.txt ]] || fail "a link to a new file was replaced"
+ln -s loop2 "$tmp/loop1"
+ln -s loop1 "$tmp/loop2"
+expect_fail --rc 1 "Too many levels of symbolic links" "$PSIM" --final "$tmp/loop1" "$tmp/s.in"
+[[ -L $tmp/loop1 ]] || fail "a loop of links was replaced"
 # a read-only file is not replaced (a rename could, and root may write it)
 cp "$tmp/s.in" "$tmp/ro.in"
 chmod 444 "$tmp/ro.in"

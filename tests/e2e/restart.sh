@@ -139,6 +139,17 @@ expect_fail --rc 1 "bad3.rs:6: particle" "$PSIM" "$tmp/bad3.rs" --final "$tmp/ne
 [[ $FAIL_LINE == *"missing or malformed cell_x"* ]] || fail "bad3: $FAIL_LINE"
 { echo "#psim restart 1 step=3"; tail -n +2 "$rs"; } >"$tmp/bad4.rs"
 expect_fail --rc 1 "bad4.rs:1: restart header: missing 'model=NAME'" "$PSIM" "$tmp/bad4.rs"
+sed '1s/$/ step=4/' "$rs" >"$tmp/bad5.rs"
+expect_fail --rc 1 "bad5.rs:1: restart header: key given twice: 'step'" "$PSIM" "$tmp/bad5.rs"
+sed '1s/model=event/model=nosuch/' "$rs" >"$tmp/bad6.rs"
+expect_fail --rc 1 "bad6.rs:1: restart header: unknown model 'nosuch'" "$PSIM" "$tmp/bad6.rs"
+{ echo "#psim restart 1 model=discrete step=3 options=settle=0"; cat "$tmp/small.in"; } \
+    >"$tmp/bad7.rs"
+expect_fail --rc 1 "bad7.rs:1: restart header: option settle:" "$PSIM" "$tmp/bad7.rs" \
+    --final "$tmp/never.txt"
+# a header longer than any fixed buffer: one clear line, no crash
+{ printf '#psim restart 1 model=event step=3 columns=%04000d' 0; tail -n +2 "$rs"; } >"$tmp/bad8.rs"
+expect_fail --rc 1 "bad8.rs:1:" "$PSIM" "$tmp/bad8.rs"
 [[ ! -e $tmp/never.txt ]] || fail "a refused restart left an output"
 expect_fail --rc 2 "named for two outputs" "$PSIM" "$tmp/dense.in" --restart "$tmp/y" --final "$tmp/y"
 expect_fail --rc 2 "is the scene" "$PSIM" "$rs" --restart "$rs"
