@@ -218,9 +218,11 @@ static int parse_options(psim_sim *e, const char *text, psim_error *err)
         char *stop;
         errno = 0;
         double v = strtod(eq + 1, &stop);
-        if (stop == eq + 1 || stop != text + len || errno || !(v >= o->lo && v <= o->hi)) {
-            psim_error_set(err, "option %s: '%.*s' is not a number in [%g, %g]", o->name,
-                           (int)(text + len - eq - 1), eq + 1, o->lo, o->hi);
+        if (stop == eq + 1 || stop != text + len || errno || !(v >= o->lo && v <= o->hi) ||
+            (o->whole && v != floor(v))) {
+            psim_error_set(err, "option %s: '%.*s' is not %s in [%g, %g]", o->name,
+                           (int)(text + len - eq - 1), eq + 1,
+                           o->whole ? "a whole number" : "a number", o->lo, o->hi);
             err->usage = 1;
             return -1;
         }

@@ -28,14 +28,16 @@ typedef struct psim_snapshot {
 #define PSIM_MODEL_PHASES (PSIM_PHASES_MAX - PSIM_PHASE_MODEL)
 #define PSIM_MODEL_OPTIONS 12
 
-/* A model option (--option NAME=VALUE): a number in [lo, hi]. */
+/* A model option (--option NAME=VALUE): a number in [lo, hi], a whole
+ * one where whole is set (switches, counts). */
 typedef struct psim_model_option {
     const char *name, *help;
     double lo, hi;
+    int whole;
 } psim_model_option;
 
 /* The option that turns a model's skips off (tests compare the bytes). */
-#define PSIM_SKIP_OPTION {"skip", "0: never leave out a stage the scene cannot use (for tests)", 0, 1}
+#define PSIM_SKIP_OPTION {"skip", "0: never leave out a stage the scene cannot use (for tests)", 0, 1, 1}
 
 /* A stage a model leaves out when the scene cannot use it (psim_stats). */
 typedef struct psim_model_skip {

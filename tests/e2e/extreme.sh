@@ -47,7 +47,7 @@ run_ok "$PSIM" --quiet --stats "$tmp/dense.json" --final "$tmp/dense.out" "$tmp/
 same_file "$tmp/dense100.out" "$tmp/dense.out"
 python3 -c "import json,sys; d = json.load(open(sys.argv[1])); sys.exit(not 30 < d['max_step_resolutions'] / d['n'] <= 100)" \
     "$tmp/dense.json" || fail "max_step_resolutions should be 30-100 per disk: $(cat "$tmp/dense.json")"
-expect_fail --rc 2 "option settle: '0' is not a number" "$PSIM" --quiet -O settle=0 "$tmp/dense.in"
+expect_fail --rc 2 "option settle: '0' is not a whole number" "$PSIM" --quiet -O settle=0 "$tmp/dense.in"
 
 # a disk wider than the box would touch both walls: its wall collision could
 # never be resolved, so such a scene is refused

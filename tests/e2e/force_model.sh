@@ -338,8 +338,8 @@ bad 2 "option dt: 'abc'" -n 10 --option dt=abc
 bad 2 "option dt" -n 10 --option dt=-1
 bad 2 "option mass" -n 10 --option mass=0
 bad 2 "expected NAME=VALUE" -n 10 --option dt
-bad 1 "no initialisation of its own" --model discrete -n 10
-bad 1 "no initialisation of its own" --model ccd -n 10
+bad 2 "no initialisation of its own" --model discrete -n 10
+bad 2 "no initialisation of its own" --model ccd -n 10
 bad 2 "-n" -n -5
 bad 2 "-n" -n abc
 bad 2 "--seed" -n 10 --seed -1

@@ -247,15 +247,15 @@ const psim_model psim_model_discrete = {
                  "wall_resolutions", "tasks", "max_step_resolutions", "search_tests", "regrids",
                  "tile_cuts", NULL},
     .options = {{"settle", "resolutions a step may take per disk before the run stops "
-                           "(default 1000)", 1, 1e9},
+                           "(default 1000)", 1, 1e9, 1},
                 {"simd", "0: contact search without AVX-512 even where the CPU has it "
-                         "(same results)", 0, 1},
+                         "(same results)", 0, 1, 1},
                 {"regrid", "0: plan the grid once, over the disks' bounding box at the start, "
-                           "and keep it (default 1: follow the disks)", 0, 1},
+                           "and keep it (default 1: follow the disks)", 0, 1, 1},
                 {"balance", "0: tiles of the grid's square blocks of cells (default 1: "
-                            "cut where the work is, every 8 steps)", 0, 1},
+                            "cut where the work is, every 8 steps)", 0, 1, 1},
                 {"gens", "generations of its worklist a tile resolves in a round, before "
-                         "the contacts across tiles (default 1; 0: to its fixpoint)", 0, 1e9},
+                         "the contacts across tiles (default 1; 0: to its fixpoint)", 0, 1e9, 1},
                 PSIM_SKIP_OPTION,
                 {NULL, NULL, 0, 0}},
     .skips = {[DS_SEARCH] = {"search", "no pair could meet: sort, contacts, resolution"},

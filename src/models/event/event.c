@@ -333,7 +333,7 @@ const psim_model psim_model_event = {
     .restart_cols = {"t_own", "x_own", "y_own", "cell_x", "cell_y", "last", NULL},
     .restart_save = restart_save,
     .options = {{"calendar", "1: Paul's calendar (buckets, the current one sorted; default); "
-                             "0: one binary heap (the baseline)", 0, 1},
+                             "0: one binary heap (the baseline)", 0, 1, 1},
                 {NULL, NULL, 0, 0}},
     .create = create,
     .interact = interact,
