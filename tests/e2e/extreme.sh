@@ -42,6 +42,14 @@ for t in 2 3; do
     expect_fail --rc 1 "(30 per disk, --option settle=K)" "$PSIM" --quiet --threads $t -O settle=30 "$tmp/dense.in"
     [[ $FAIL_LINE == "$gave_up" ]] || fail "--threads $t gave up otherwise: $FAIL_LINE (one thread: $gave_up)"
 done
+# ... nor with tiles (rounds of tasks, spawned in batches and looked at
+# after each batch)
+expect_fail --rc 1 "(30 per disk, --option settle=K)" "$PSIM" --quiet --tile 4 -O settle=30 "$tmp/dense.in"
+gave_up=$FAIL_LINE
+for t in 2 3; do
+    expect_fail --rc 1 "(30 per disk" "$PSIM" --quiet --threads $t --tile 4 -O settle=30 "$tmp/dense.in"
+    [[ $FAIL_LINE == "$gave_up" ]] || fail "tiles, --threads $t gave up otherwise: $FAIL_LINE (one thread: $gave_up)"
+done
 run_ok "$PSIM" --quiet -O settle=100 --final "$tmp/dense100.out" "$tmp/dense.in"
 run_ok "$PSIM" --quiet --stats "$tmp/dense.json" --final "$tmp/dense.out" "$tmp/dense.in"
 same_file "$tmp/dense100.out" "$tmp/dense.out"
