@@ -19,7 +19,7 @@ static const struct { int dx, dy, axis; } forward[4] = {
 static int build_edges(const psim_grid *g, dmodel *m)
 {
     m->edges = psim_alloc(4 * (size_t)m->ntiles * sizeof *m->edges);
-    m->edge_res = psim_calloc(4 * (size_t)m->ntiles * ROUND_BATCH * sizeof *m->edge_res);
+    m->edge_res = psim_calloc(4 * (size_t)m->ntiles * sizeof *m->edge_res);
     if (!m->edges || !m->edge_res)
         return -1;
     m->nedges = 0;

@@ -56,11 +56,6 @@ typedef struct dlist {
     size_t n, cap;
 } dlist;
 
-/* Rounds spawned together before the resolution waits for them and looks
- * at what they did (resolve.c): a round after one that resolved nothing
- * finds nothing to do. */
-#define ROUND_BATCH 4
-
 typedef struct __attribute__((aligned(64))) dtile {
     uint32_t p0, p1;            /* particles [p0, p1) */
     dlist in;                   /* contacts inside the tile */
@@ -76,7 +71,8 @@ typedef struct __attribute__((aligned(64))) dtile {
     size_t acts_cap;            /* in the order they did (resolve.c) */
     uint32_t nact;
     uint64_t checks, pair_res, wall_res;  /* this step */
-    uint64_t round_res[ROUND_BATCH];      /* each round of the batch, tile task */
+    uint64_t round_res;                   /* this round, tile task */
+    uint8_t scheduled;          /* a tile task runs this round */
     uint8_t changed_border;     /* tile task changed a disk with contacts
                                  * across tiles this round */
     uint8_t changed_cross_prev; /* edge tasks changed it last round */
@@ -142,7 +138,7 @@ typedef struct dmodel {
     uint32_t *tile_chunk0;  /* ntiles + 1: first chunk of each tile */
     dedge *edges;       /* in task-creation order */
     size_t nedges;
-    uint64_t *edge_res; /* per edge and round of the batch (ROUND_BATCH each) */
+    uint64_t *edge_res; /* per edge, this round */
     uint8_t *active;    /* per particle: changed by an edge task */
     uint8_t *border;    /* per particle, while resolving: has contacts
                          * across tiles (resolve.c) */

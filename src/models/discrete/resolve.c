@@ -180,15 +180,15 @@ static void worklist(const psim_sim *e, dmodel *m, dtile *t, int first, wpart *w
         worklist_of(e, m, t, first, wp, 0);
 }
 
-/* What a tile's worklists did in the round of slot s, to the tile. */
-static void tile_done(dtile *t, int s, uint64_t checks, uint64_t pres, uint64_t wres,
-                      int diverged, int bchg)
+/* What a tile's worklists did, to the tile. */
+static void tile_done(dtile *t, uint64_t checks, uint64_t pres, uint64_t wres, int diverged,
+                      int bchg)
 {
     t->diverged |= (uint8_t)diverged;
     t->checks += checks;
     t->wall_res += wres;
     t->pair_res += pres;
-    t->round_res[s] = pres + wres;
+    t->round_res = pres + wres;
     t->changed_border = (uint8_t)bchg;
 }
 
@@ -237,15 +237,12 @@ static uint64_t cross_pass(const psim_sim *e, dmodel *m, const dlist *l, dtile *
     return res;
 }
 
-/* Fixpoint over the contacts between tiles a and b, in the round of slot
- * s.  It finds work only if a tile task changed a disk with contacts
- * across tiles this round, or edges changed one of its tiles the round
- * before. */
-static void edge_task(const psim_sim *e, dmodel *m, size_t k, int first, int s)
+/* Fixpoint over the contacts between tiles a and b. */
+static void edge_task(const psim_sim *e, dmodel *m, size_t k, int first)
 {
     const dedge *ed = &m->edges[k];
     dtile *a = &m->tiles[ed->a], *b = &m->tiles[ed->b];
-    m->edge_res[k * ROUND_BATCH + s] = 0;
+    m->edge_res[k] = 0;
     if (!first && !(a->changed_border || b->changed_border ||
                     a->changed_cross_prev || b->changed_cross_prev))
         return;
@@ -264,7 +261,7 @@ static void edge_task(const psim_sim *e, dmodel *m, size_t k, int first, int s)
     a->pair_res += total;
     if (total)   /* (its disks are in a's and b's acts) */
         a->changed_cross_cur = b->changed_cross_cur = 1;
-    m->edge_res[k * ROUND_BATCH + s] = total;
+    m->edge_res[k] = total;
 }
 
 static int edge_has_work(const dmodel *m, const dedge *ed)
@@ -272,29 +269,27 @@ static int edge_has_work(const dmodel *m, const dedge *ed)
     return m->tiles[ed->a].cross[ed->dir].n + m->tiles[ed->b].cross[DIR_OPP(ed->dir)].n > 0;
 }
 
-/* Tile t's task in the round of slot s.  What edges changed in t the
- * round before becomes "last round's" here, where nothing else of this
- * round has run on t yet (the tile's dependence orders its tasks); a tile
- * with no disk queued and none changed by edges has nothing to do. */
-static void timed_tile(const psim_sim *e, dmodel *m, dtile *t, int first, int s)
+/* An edge can only find work if a tile task runs on one of its tiles this
+ * round or edges changed one of them last round. */
+static int edge_may_change(const dmodel *m, const dedge *ed, int first)
 {
-    t->changed_cross_prev = t->changed_cross_cur;
-    t->changed_cross_cur = 0;
-    if (!first && !t->nact && !t->qcount) {
-        t->changed_border = 0;
-        t->round_res[s] = 0;
-        return;
-    }
+    const dtile *a = &m->tiles[ed->a], *b = &m->tiles[ed->b];
+    return first || a->scheduled || b->scheduled || a->changed_cross_prev ||
+           b->changed_cross_prev;
+}
+
+static void timed_tile(const psim_sim *e, dmodel *m, dtile *t, int first)
+{
     wpart wp = {.queue = t->queue};
     timed_worklist(e, m, t, first, &wp, t->p1 - t->p0);
     e->tstats[wp.tid].wall_resolutions += wp.wres;
-    tile_done(t, s, wp.checks, wp.pres, wp.wres, wp.diverged, wp.bchg);
+    tile_done(t, wp.checks, wp.pres, wp.wres, wp.diverged, wp.bchg);
 }
 
-static void timed_edge(const psim_sim *e, dmodel *m, size_t k, int first, int s)
+static void timed_edge(const psim_sim *e, dmodel *m, size_t k, int first)
 {
     double t0 = psim_now();
-    edge_task(e, m, k, first, s);
+    edge_task(e, m, k, first);
     psim_tstat_add(e->tstats, DPHASE_RESOLVE, psim_now() - t0, 1, 0);
 }
 
@@ -424,79 +419,86 @@ static int resolve_parts(const psim_sim *e, dmodel *m, dtile *t)
     if (diverged || pres + wres > m->budget) {   /* as one worklist, from the start */
         memcpy(e->st.vx + t->p0, m->part_v, n * sizeof *m->part_v);
         memcpy(e->st.vy + t->p0, m->part_v + n, n * sizeof *m->part_v);
-        timed_tile(e, m, t, 1, 0);
+        timed_tile(e, m, t, 1);
         return 0;
     }
     for (int k = 0; k < parts; k++)   /* (a rerun's own walls count instead) */
         e->tstats[wp[k].tid].wall_resolutions += wp[k].wres;
-    tile_done(t, 0, checks, pres, wres, 0, 0);   /* one tile: no edges */
+    tile_done(t, checks, pres, wres, 0, 0);   /* one tile: no edges */
     return 0;
 }
 
 /* A tile's task and an edge's (src/engine/task.h): a tile depends on its
  * own slot, an edge on both of its tiles'. */
 PSIM_TASK_SPAWN static void task_spawn_tile(const psim_sim *e, dmodel *m, dtile *t, uint32_t ti,
-                                            int first, int s)
+                                            int first)
 {
-#pragma omp task default(none) firstprivate(e, m, t, first, s) depend(inout : m->dep[ti])
-    timed_tile(e, m, t, first, s);
+#pragma omp task default(none) firstprivate(e, m, t, first) depend(inout : m->dep[ti])
+    timed_tile(e, m, t, first);
 }
 
-PSIM_TASK_SPAWN static void task_spawn_edge(const psim_sim *e, dmodel *m, size_t k, int first,
-                                            int s)
+PSIM_TASK_SPAWN static void task_spawn_edge(const psim_sim *e, dmodel *m, size_t k, int first)
 {
     const dedge *ed = &m->edges[k];
-#pragma omp task default(none) firstprivate(e, m, k, first, s) \
+#pragma omp task default(none) firstprivate(e, m, k, first) \
     depend(inout : m->dep[ed->a]) depend(inout : m->dep[ed->b])
-    timed_edge(e, m, k, first, s);
+    timed_edge(e, m, k, first);
 }
 
-/* Emit the task graph of the round of slot s: a task for every tile with
- * disks and every edge with contacts, each of which finds out when it runs
- * whether it has work (with one thread, run them in creation order, which
- * the dependences allow: no graph); returns the number of tasks. */
-static uint64_t emit_round(const psim_sim *e, dmodel *m, int first, int s)
+/* Emit one round's task graph (with one thread, run its tasks in creation
+ * order, which the dependences allow: no graph); returns the number of
+ * work items. */
+static uint64_t emit_round(const psim_sim *e, dmodel *m, int first)
 {
     uint64_t tasks = 0;
     const int graph = e->threads > 1;
     for (uint32_t ti = 0; ti < m->ntiles; ti++) {
         dtile *t = &m->tiles[ti];
-        t->round_res[s] = 0;
-        if (t->p0 == t->p1)
+        t->changed_border = 0;
+        t->round_res = 0;
+        t->scheduled = t->p0 != t->p1 && (first || t->nact || t->qcount);
+    }
+    for (uint32_t ti = 0; ti < m->ntiles; ti++) {
+        dtile *t = &m->tiles[ti];
+        if (!t->scheduled)
             continue;
         tasks++;
         if (!graph) {
-            timed_tile(e, m, t, first, s);
+            timed_tile(e, m, t, first);
             continue;
         }
         if (use_parts(e, m, t, first) && resolve_parts(e, m, t) == 0) {
             tasks += (uint64_t)e->threads - 1;
             continue;
         }
-        task_spawn_tile(e, m, t, ti, first, s);
+        task_spawn_tile(e, m, t, ti, first);
     }
     for (size_t k = 0; k < m->nedges; k++) {
-        m->edge_res[k * ROUND_BATCH + s] = 0;
-        if (!edge_has_work(m, &m->edges[k]))
+        const dedge *ed = &m->edges[k];
+        m->edge_res[k] = 0;
+        if (!edge_has_work(m, ed) || !edge_may_change(m, ed, first))
             continue;
         tasks++;
         if (!graph) {
-            timed_edge(e, m, k, first, s);
+            timed_edge(e, m, k, first);
             continue;
         }
-        task_spawn_edge(e, m, k, first, s);
+        task_spawn_edge(e, m, k, first);
     }
     return tasks;
 }
 
-/* What the round of slot s resolved. */
-static uint64_t round_total(const dmodel *m, int s)
+static uint64_t round_total(dmodel *m)
 {
     uint64_t res = 0;
-    for (uint32_t ti = 0; ti < m->ntiles; ti++)
-        res += m->tiles[ti].round_res[s];
+    for (uint32_t ti = 0; ti < m->ntiles; ti++) {
+        dtile *t = &m->tiles[ti];
+        res += t->round_res;
+        t->changed_cross_prev = t->changed_cross_cur;
+        t->changed_cross_cur = 0;
+    }
     for (size_t k = 0; k < m->nedges; k++)
-        res += m->edge_res[k * ROUND_BATCH + s];
+        res += m->edge_res[k];
     return res;
 }
 
@@ -534,29 +536,21 @@ __attribute__((noinline)) int discrete_resolve(psim_sim *e, dmodel *m)
     }
     mark_border(m, 1);
     m->counting = discrete_balance_counts(e, m) ? m->work : NULL;
-    /* rounds in batches: a batch's tasks are spawned at once, and the
-     * dependences order them round after round; one wait a batch.  The
-     * batches do not depend on the thread count: one thread runs the same
-     * rounds.  (One tile resolves to its fixpoint in a round.) */
-    const int batch = m->ntiles > 1 ? ROUND_BATCH : 2;
 #pragma omp parallel num_threads(e->threads) if (e->threads > 1)
 #pragma omp single
     {
-        for (int first = 1, done = 0; !done; first = 0) {
-            for (int s = 0; s < batch; s++)
-                tasks += emit_round(e, m, first && s == 0, s);
+        for (int first = 1;; first = 0) {
+            tasks += emit_round(e, m, first);
 #pragma omp taskwait
-            for (int s = 0; s < batch && !done; s++) {
-                rounds++;
-                uint64_t res = round_total(m, s);
-                total += res;
-                if (total > budget)
-                    settled = 0, done = 1;
-                else if (res == 0)
-                    done = 1;   /* (the rounds after it did nothing) */
+            rounds++;
+            uint64_t res = round_total(m);
+            total += res;
+            if (any_diverged(m) || total > budget) {
+                settled = 0;
+                break;
             }
-            if (any_diverged(m))
-                settled = 0, done = 1;
+            if (res == 0)
+                break;
         }
     }
     mark_border(m, 0);
