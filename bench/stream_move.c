@@ -3,12 +3,17 @@
  * structure of arrays as psim's store) read and written once, with no
  * force, no bookkeeping and no other data.  It bounds the move phase from
  * below and tells whether N particles' state streams from a cache or from
- * memory (docs/performance.md, "Twelfth pass").
+ * memory (docs/performance.md, "Twelfth pass").  With OMP_NUM_THREADS=T
+ * the particles are split over T threads (static shares, each written
+ * first by its own thread), which tells whether the cores share what the
+ * state streams from ("The force model's streaming phases on two cores").
  * usage: stream_move [N [PASSES]]   (default 1000000 particles, 30 passes;
  * prints the fastest pass and the median, in ns a particle and GB/s) */
 #include <stdio.h>
 #include <stdlib.h>
 #include <time.h>
+
+#include <omp.h>
 
 static double now(void)
 {
@@ -28,6 +33,7 @@ static void pass(size_t n, double *restrict x, double *restrict y, double *restr
                  double *restrict vy)
 {
     const double dt = 0.0005;
+#pragma omp parallel for schedule(static)
     for (size_t i = 0; i < n; i++) {
         double ux = vx[i] * 1.0000001, uy = vy[i] * 0.9999999;
         vx[i] = ux;
@@ -52,6 +58,7 @@ int main(int argc, char **argv)
             fprintf(stderr, "stream_move: out of memory\n");
             return 1;
         }
+#pragma omp parallel for schedule(static)
         for (size_t i = 0; i < n; i++)
             a[k][i] = k < 2 ? (double)i : 1e-3 * (k == 2 ? 1 : -1);
     }
@@ -62,9 +69,9 @@ int main(int argc, char **argv)
     }
     qsort(t, (size_t)passes, sizeof *t, by_value);
     double bytes = 64.0 * (double)n;   /* 32 read and 32 written a particle */
-    printf("n %zu  passes %d  fastest %.3f ms (%.2f ns a particle, %.1f GB/s)  "
+    printf("n %zu  threads %d  passes %d  fastest %.3f ms (%.2f ns a particle, %.1f GB/s)  "
            "median %.3f ms (%.2f ns, %.1f GB/s)  check %g\n",
-           n, passes, 1e3 * t[0], 1e9 * t[0] / (double)n, bytes / t[0] / 1e9,
+           n, omp_get_max_threads(), passes, 1e3 * t[0], 1e9 * t[0] / (double)n, bytes / t[0] / 1e9,
            1e3 * t[passes / 2], 1e9 * t[passes / 2] / (double)n, bytes / t[passes / 2] / 1e9,
            a[0][n / 2] + a[1][n / 2]);
     for (int k = 0; k < 4; k++)
