@@ -257,7 +257,7 @@ const psim_model psim_model_discrete = {
                 {"gens", "generations of its worklist a tile resolves in a round, before "
                          "the contacts across tiles (default 1; 0: to its fixpoint)", 0, 1e9, 1},
                 PSIM_SKIP_OPTION,
-                {NULL, NULL, 0, 0}},
+                {NULL, NULL, 0, 0, 0}},
     .skips = {[DS_SEARCH] = {"search", "no pair could meet: sort, contacts, resolution"},
               [DS_WALLS] = {"walls", "no disk could reach a wall"},
               [DS_MOVE] = {"move", "nothing moves"},

@@ -334,7 +334,7 @@ const psim_model psim_model_event = {
     .restart_save = restart_save,
     .options = {{"calendar", "1: Paul's calendar (buckets, the current one sorted; default); "
                              "0: one binary heap (the baseline)", 0, 1, 1},
-                {NULL, NULL, 0, 0}},
+                {NULL, NULL, 0, 0, 0}},
     .create = create,
     .interact = interact,
     .check = check,
