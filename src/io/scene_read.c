@@ -225,8 +225,10 @@ static int header_value(reader *rd, const char *what, int integer, double *v,
 static int read_header(reader *rd, psim_scene *sc, psim_error *err)
 {
     double n, L, r, S;
+    long at[4];
     if (header_value(rd, "the particle count N", 1, &n, err))
         return -1;
+    at[PSIM_LINE_N] = rd->line;
     if (n < 0 || n > 2147483647.0) {
         psim_error_set(err, "%s:%ld: particle count N must be between 0 and 2^31-1, got %.0f",
                        rd->name, rd->line, n);
@@ -234,6 +236,7 @@ static int read_header(reader *rd, psim_scene *sc, psim_error *err)
     }
     if (header_value(rd, "the box side L", 0, &L, err))
         return -1;
+    at[PSIM_LINE_L] = rd->line;
     if (!(L > 0)) {
         psim_error_set(err, "%s:%ld: box side L must be positive, got %g",
                        rd->name, rd->line, L);
@@ -241,6 +244,7 @@ static int read_header(reader *rd, psim_scene *sc, psim_error *err)
     }
     if (header_value(rd, "the radius r", 0, &r, err))
         return -1;
+    at[PSIM_LINE_R] = rd->line;
     if (!(r > 0)) {
         psim_error_set(err, "%s:%ld: radius r must be positive, got %g",
                        rd->name, rd->line, r);
@@ -255,6 +259,7 @@ static int read_header(reader *rd, psim_scene *sc, psim_error *err)
     }
     if (header_value(rd, "the step count S", 1, &S, err))
         return -1;
+    at[PSIM_LINE_S] = rd->line;
     if (S < 0 || S > PSIM_MAX_STEPS) {
         psim_error_set(err, "%s:%ld: step count S must be between 0 and %ld (as --steps), "
                        "got %.0f", rd->name, rd->line, PSIM_MAX_STEPS, S);
@@ -265,6 +270,7 @@ static int read_header(reader *rd, psim_scene *sc, psim_error *err)
     sc->L = L;
     sc->r = r;
     sc->steps = (long)S;
+    memcpy(sc->header_line, at, sizeof at);
     return 0;
 }
 
@@ -650,6 +656,15 @@ void psim_scene_where(const psim_scene *sc, long i, char *buf, size_t size)
     buf[0] = '\0';
     if (sc->source && sc->line)
         snprintf(buf, size, "%s:%ld: ", sc->source, sc->line[i]);
+}
+
+void psim_scene_where_header(const psim_scene *sc, int k, char *buf, size_t size)
+{
+    if (size == 0)
+        return;
+    buf[0] = '\0';
+    if (sc->source && k >= 0 && k < 4 && sc->header_line[k] > 0)
+        snprintf(buf, size, "%s:%ld: ", sc->source, sc->header_line[k]);
 }
 
 void psim_scene_free(psim_scene *sc)
