@@ -95,8 +95,23 @@ static size_t refill(reader *rd)
     return rd->end;
 }
 
+/* Whether the n bytes of a line hold a CR with text after it: a file whose
+ * lines end in CR alone (old Mac line ends) is one line of LF-ended text
+ * (a long one: "binary data"), whose first number was all the reader saw.
+ * A CR before the LF (CR LF), and spaces after a CR, are no line ends. */
+static int cr_alone(const char *p, size_t n)
+{
+    const char *cr = memchr(p, '\r', n);
+    if (!cr)
+        return 0;
+    for (const char *q = cr + 1; q < p + n; q++)
+        if (!isspace((unsigned char)*q))
+            return 1;
+    return 0;
+}
+
 /* One line into rd->buf (without its newline); its length, or -1 at end
- * of file, or -2 after an error (NUL byte, line too long). */
+ * of file, or -2 after an error (NUL byte, CR line ends, line too long). */
 static long read_line(reader *rd)
 {
     if (!rd->buf) {
@@ -119,6 +134,12 @@ static long read_line(reader *rd)
         psim_error_set(rd->err, "%s:%ld: a NUL byte at column %ld: binary data, not a "
                        "scene (scenes are text)", rd->name, rd->line + 1,
                        (long)(zero - (rd->chunk + rd->pos)) + 1);
+        return -2;
+    }
+    if (cr_alone(rd->chunk + rd->pos, len < MAX_LINE ? len : MAX_LINE)) {
+        psim_error_set(rd->err, "%s:%ld: lines end in CR alone (old Mac line ends), not LF "
+                       "or CR LF: convert the file, e.g. tr '\\r' '\\n' < OLD > NEW",
+                       rd->name, rd->line + 1);
         return -2;
     }
     if (len > MAX_LINE) {
