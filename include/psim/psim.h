@@ -76,6 +76,7 @@ typedef struct psim_scene {
     int generated;  /* 2019 format: the particle lines were absent */
     char *source;   /* the file it was read from (NULL: made, not read) */
     long *line;     /* n: the line of each particle in it (NULL likewise) */
+    long header_line[4];    /* the lines of N, L, r and S in it (0 likewise) */
     psim_restart restart;   /* present: the scene is a restart file */
 } psim_scene;
 
@@ -85,6 +86,9 @@ void psim_scene_free(psim_scene *sc);
 /* "FILE:LINE: " of particle i into buf (an error message's prefix), or ""
  * for a scene that was made, not read. */
 void psim_scene_where(const psim_scene *sc, long i, char *buf, size_t size);
+/* The same for the header's line of N, L, r or S (k = 0..3). */
+enum { PSIM_LINE_N, PSIM_LINE_L, PSIM_LINE_R, PSIM_LINE_S };
+void psim_scene_where_header(const psim_scene *sc, int k, char *buf, size_t size);
 
 /* Read a scene of either format (detected by the fifth line: a word
  * "print" or "perf" makes it a 2019 scene, whose particle lines may be

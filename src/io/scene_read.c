@@ -95,8 +95,23 @@ static size_t refill(reader *rd)
     return rd->end;
 }
 
+/* Whether the n bytes of a line hold a CR with text after it: a file whose
+ * lines end in CR alone (old Mac line ends) is one line of LF-ended text
+ * (a long one: "binary data"), whose first number was all the reader saw.
+ * A CR before the LF (CR LF), and spaces after a CR, are no line ends. */
+static int cr_alone(const char *p, size_t n)
+{
+    const char *cr = memchr(p, '\r', n);
+    if (!cr)
+        return 0;
+    for (const char *q = cr + 1; q < p + n; q++)
+        if (!isspace((unsigned char)*q))
+            return 1;
+    return 0;
+}
+
 /* One line into rd->buf (without its newline); its length, or -1 at end
- * of file, or -2 after an error (NUL byte, line too long). */
+ * of file, or -2 after an error (NUL byte, CR line ends, line too long). */
 static long read_line(reader *rd)
 {
     if (!rd->buf) {
@@ -119,6 +134,12 @@ static long read_line(reader *rd)
         psim_error_set(rd->err, "%s:%ld: a NUL byte at column %ld: binary data, not a "
                        "scene (scenes are text)", rd->name, rd->line + 1,
                        (long)(zero - (rd->chunk + rd->pos)) + 1);
+        return -2;
+    }
+    if (cr_alone(rd->chunk + rd->pos, len < MAX_LINE ? len : MAX_LINE)) {
+        psim_error_set(rd->err, "%s:%ld: lines end in CR alone (old Mac line ends), not LF "
+                       "or CR LF: convert the file, e.g. tr '\\r' '\\n' < OLD > NEW",
+                       rd->name, rd->line + 1);
         return -2;
     }
     if (len > MAX_LINE) {
@@ -225,8 +246,10 @@ static int header_value(reader *rd, const char *what, int integer, double *v,
 static int read_header(reader *rd, psim_scene *sc, psim_error *err)
 {
     double n, L, r, S;
+    long at[4];
     if (header_value(rd, "the particle count N", 1, &n, err))
         return -1;
+    at[PSIM_LINE_N] = rd->line;
     if (n < 0 || n > 2147483647.0) {
         psim_error_set(err, "%s:%ld: particle count N must be between 0 and 2^31-1, got %.0f",
                        rd->name, rd->line, n);
@@ -234,6 +257,7 @@ static int read_header(reader *rd, psim_scene *sc, psim_error *err)
     }
     if (header_value(rd, "the box side L", 0, &L, err))
         return -1;
+    at[PSIM_LINE_L] = rd->line;
     if (!(L > 0)) {
         psim_error_set(err, "%s:%ld: box side L must be positive, got %g",
                        rd->name, rd->line, L);
@@ -241,6 +265,7 @@ static int read_header(reader *rd, psim_scene *sc, psim_error *err)
     }
     if (header_value(rd, "the radius r", 0, &r, err))
         return -1;
+    at[PSIM_LINE_R] = rd->line;
     if (!(r > 0)) {
         psim_error_set(err, "%s:%ld: radius r must be positive, got %g",
                        rd->name, rd->line, r);
@@ -255,6 +280,7 @@ static int read_header(reader *rd, psim_scene *sc, psim_error *err)
     }
     if (header_value(rd, "the step count S", 1, &S, err))
         return -1;
+    at[PSIM_LINE_S] = rd->line;
     if (S < 0 || S > PSIM_MAX_STEPS) {
         psim_error_set(err, "%s:%ld: step count S must be between 0 and %ld (as --steps), "
                        "got %.0f", rd->name, rd->line, PSIM_MAX_STEPS, S);
@@ -265,6 +291,7 @@ static int read_header(reader *rd, psim_scene *sc, psim_error *err)
     sc->L = L;
     sc->r = r;
     sc->steps = (long)S;
+    memcpy(sc->header_line, at, sizeof at);
     return 0;
 }
 
@@ -650,6 +677,15 @@ void psim_scene_where(const psim_scene *sc, long i, char *buf, size_t size)
     buf[0] = '\0';
     if (sc->source && sc->line)
         snprintf(buf, size, "%s:%ld: ", sc->source, sc->line[i]);
+}
+
+void psim_scene_where_header(const psim_scene *sc, int k, char *buf, size_t size)
+{
+    if (size == 0)
+        return;
+    buf[0] = '\0';
+    if (sc->source && k >= 0 && k < 4 && sc->header_line[k] > 0)
+        snprintf(buf, size, "%s:%ld: ", sc->source, sc->header_line[k]);
 }
 
 void psim_scene_free(psim_scene *sc)

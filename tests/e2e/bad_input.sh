@@ -82,6 +82,25 @@ run_ok "$PSIM" -q --trace "$tmp/bom.trace" "$tmp/bom.in"
 same_file "$tmp/nobom.trace" "$tmp/bom.trace" "a scene with a byte-order mark"
 bad_scene bom_inside      2 "box side L"      "2\n\xEF\xBB\xBF10\n1\n5\n$ok2"
 
+# Lines that end in CR LF (Windows) are read as lines that end in LF (the
+# same run, both scene formats); lines that end in CR alone (old Mac line
+# ends) are named as such (the reader saw one line: the first number, then
+# text it took for junk, or, past 4096 bytes, "binary data").
+printf '2\r\n10\r\n1\r\n5\r\n0 1 1 0 0\r\n1 5 5 0 0\r\n' >"$tmp/crlf.in"
+run_ok "$PSIM" -q --trace "$tmp/crlf.trace" "$tmp/crlf.in"
+same_file "$tmp/nobom.trace" "$tmp/crlf.trace" "a scene with CR LF line ends"
+printf '2\n10\n1\n5\nprint\n0 2 2 1 0\n1 5 5 0 0\n' >"$tmp/lf19.in"
+printf '2\r\n10\r\n1\r\n5\r\nprint\r\n0 2 2 1 0\r\n1 5 5 0 0\r\n' >"$tmp/crlf19.in"
+run_ok "$PSIM" -q -o "$tmp/lf19.out" "$tmp/lf19.in"
+run_ok "$PSIM" -q -o "$tmp/crlf19.out" "$tmp/crlf19.in"
+[[ -s $tmp/lf19.out ]] || fail "no output from the 2019 scene"
+same_file "$tmp/lf19.out" "$tmp/crlf19.out" "a 2019 scene with CR LF line ends"
+{ printf '1000\r2000\r1\r5\r'; for ((i = 0; i < 1000; i++)); do printf '%d %d.5 7 0 0\r' "$i" "$((i + 3))"; done; } >"$tmp/mac_long.in"
+(($(wc -c <"$tmp/mac_long.in") > 4096)) || fail "mac_long.in should be longer than a line may be"
+expect_fail --rc 1 "lines end in CR alone (old Mac line ends)" "$PSIM" --out "$out" "$tmp/mac_long.in"
+[[ $FAIL_LINE == "psim: $tmp/mac_long.in:1: "* ]] || fail "CR line ends: $FAIL_LINE"
+no_output_left mac_long
+
 # The same from standard input: named <stdin>.
 printf '2\n10\n1\n5\n0 1 1 0 0\n1 5 x 0 0\n' >"$tmp/stdin.in"
 # shellcheck disable=SC2016

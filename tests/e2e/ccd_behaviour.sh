@@ -146,6 +146,19 @@ expect_fail --rc 1 "out24.in:6: disk 1 at (-1000000, 5) is outside" \
 [[ ! -e $tmp/x.out ]] || fail "a refused scene left an output"
 printf '3\n20\n1\n5\n0 1 5 -0.5 0\n1 19 19 0.5 0.5\n2 0.5 10 -0.25 0\n' >"$tmp/wall24.in"
 run_ok "$PSIM" -q --model ccd --out "$tmp/wall24.out" "$tmp/wall24.in"
+# ... but a 2019 scene's centres lie in [r, L - r], as its course's
+# generator puts them (the wall rule moved a disk that overlaps a wall by 2
+# in a step at speed 1): a disk within r of a wall is refused, naming its
+# line (tests/e2e/data/malformed.table); disks touching the walls run, also
+# where L - r is not a round number
+printf '3\n4.1\n0.3\n5\nprint\n0 0.3 2 -0.5 0\n1 3.8 3.8 0.5 0.5\n2 2 0.3 0 -0.25\n' >"$tmp/touch19.in"
+run_ok "$PSIM" -q --check --out "$tmp/touch19.out" "$tmp/touch19.in"
+expect "$(awk '$1 == 1 && $2 == 0 { print $3, $5 }' "$tmp/touch19.out")" "0.80000000 0.50000000" \
+    "a 2019 disk touching a wall bounces"
+printf '2\n10\n1\n5\nprint\n0 0.5 5 -1 0\n1 5 5 0 0\n' >"$tmp/straddle19.in"
+expect_fail --rc 1 "straddle19.in:6: disk 0 at (0.5, 5) overlaps a wall" \
+    "$PSIM" --out "$tmp/x.out" "$tmp/straddle19.in"
+[[ ! -e $tmp/x.out ]] || fail "a refused scene left an output"
 expect_fail --rc 2 "unknown model" "$PSIM" --model nosuch "$tmp/free.in"
 expect_fail --rc 2 "--substeps" "$PSIM" --substeps 0 "$tmp/free.in"
 "$PSIM" models | grep -q '^ccd ' || fail "psim models should list ccd"

@@ -2,7 +2,8 @@
 # The event model (exact event-driven hard disks): exact answers where they
 # are known by hand (a head-on pair, a wall, a cradle of touching disks), no
 # overlaps and energy to round-off on dense scenes, the same bytes for any
-# thread count, and a clear error for a scene whose disks overlap.
+# thread count, and a clear error for a scene whose disks overlap; memory
+# bounded however many events a step makes.
 set -euo pipefail
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
@@ -50,6 +51,29 @@ expect_state "$tmp/wall.out" "0 7 55 1 0.5"
 printf '5\n100\n1\n10\n0 10 50 1 0\n1 12 50 0 0\n2 14 50 0 0\n3 16 50 0 0\n4 18 50 0 0\n' >"$tmp/cradle.in"
 event cradle --stats "$tmp/cradle.json" "$tmp/cradle.in"
 expect_state "$tmp/cradle.out" "0 10 50 0 0" "3 16 50 0 0" "4 28 50 1 0"
+# A head-on pair of disks of r = 1e-9 in a box of 10, along an axis and
+# along a diagonal: the contact 2e-9 before the centres meet.  The
+# prediction's discriminant b^2 - |dv|^2 c cancelled to nothing (sigma^2 is
+# below the round-off of |dr|^2): the centres met at one point, and the
+# collision made NaN.
+printf '2\n10\n1e-9\n5\n0 4 5 1 0\n1 6 5 -1 0\n' >"$tmp/tiny.in"
+printf '2\n10\n1e-9\n3\n0 4 4 0.5 0.5\n1 6 6 -0.5 -0.5\n' >"$tmp/tiny_diag.in"
+for t in tiny tiny_diag; do
+    run_ok "$PSIM" -q --model event --check --final "$tmp/$t.out" "$tmp/$t.in"
+done
+"$PY" - "$tmp/tiny.out" "$tmp/tiny_diag.out" <<'PYEOF' || fail "tiny disks: wrong final state: $(cat "$tmp/tiny.out" "$tmp/tiny_diag.out")"
+import sys
+def state(path):
+    return {int(f[1]): tuple(float(v) for v in f[2:6]) for f in (l.split() for l in open(path))}
+def near(got, want):
+    return all(abs(g - w) <= 1e-13 for g, w in zip(got, want))
+a, d = state(sys.argv[1]), state(sys.argv[2])
+# contact at t = 1 - 1e-9 (x = 5 -+ 1e-9), then back for 4 + 1e-9
+assert near(a[0], (1 - 2e-9, 5, -1, 0)) and near(a[1], (9 + 2e-9, 5, 1, 0)), a
+# contact at t = 2 - sqrt(2) 1e-9, then back for 1 + sqrt(2) 1e-9
+e = 2 ** 0.5 * 1e-9
+assert near(d[0], (4.5 - e, 4.5 - e, -0.5, -0.5)) and near(d[1], (5.5 + e, 5.5 + e, 0.5, 0.5)), d
+PYEOF
 # Disks that touch but move apart, or slide along each other, never collide.
 printf '2\n100\n1\n10\n0 10 50 -1 0\n1 12 50 1 0\n' >"$tmp/apart.in"
 event apart "$tmp/apart.in"
@@ -97,6 +121,24 @@ import json, sys
 d, c = (json.load(open(p)) for p in sys.argv[1:3])
 assert d["collisions"] > 900 * 40, d        # more than one per disk per step
 assert c["collisions"] == 4, c                 # one per touching pair, once
+PYEOF
+
+# A disk rattling in a gap of 1e-6 r: disk 1 hits disk 0, which touches the
+# wall, and then goes back and forth between it and the other wall, 10^6
+# times a step.  Each event was kept in the calendar's current bucket after
+# it was taken (the fuzzed scene, with a gap of 1e-7 r, grew it to
+# gigabytes): memory stays that of a scene whose disks are 0.1 r apart.
+printf '2\n4.000001\n1\n2\n0 1 2 0 0\n1 3 2 -1 0\n' >"$tmp/rattle.in"
+printf '2\n4.1\n1\n2\n0 1 2 0 0\n1 3 2 -1 0\n' >"$tmp/rattle.wide.in"
+run_ok "$PSIM" -q --model event --check --stats "$tmp/rattle.json" --final "$tmp/rattle.out" "$tmp/rattle.in"
+run_ok "$PSIM" -q --model event --stats "$tmp/rattle.wide.json" --final "$tmp/rattle.wide.out" \
+    "$tmp/rattle.wide.in"
+"$PY" - "$tmp/rattle.json" "$tmp/rattle.wide.json" <<'PYEOF' || fail "the rattling disk's events piled up"
+import json, sys
+d, w = (json.load(open(p)) for p in sys.argv[1:3])
+assert d["collisions"] >= 1900000 and d["wall_hits"] >= 1900000, d   # the rattle ran
+grew = d["peak_rss_bytes"] - w["peak_rss_bytes"]
+assert grew < 32 << 20, ("memory grew by", grew, "bytes")
 PYEOF
 
 # --- the same bytes for any thread count ---------------------------------------

@@ -3,7 +3,8 @@
  * beyond the bucket window), and pushes between pops (never earlier than
  * the last event taken, as the model does) come out in time order, every
  * one of them, and in exactly the order of the plain binary heap (buckets
- * off): each pop takes the least (time, a, b) of what is in. */
+ * off): each pop takes the least (time, a, b) of what is in.  A bucket
+ * that never runs dry (a rattling disk) keeps only the events still in. */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -74,8 +75,44 @@ static long run(int buckets, int64_t nb, double w)
     return popped;
 }
 
+/* A disk rattling in a gap of 1e-7 between a wall and another disk: an
+ * event every 1e-7, each pushed right after the last was taken, all in the
+ * current bucket (of width 1), where another event waits at t = 0.9 (and,
+ * the second time, none: the bucket is refilled as soon as it runs dry).
+ * The bucket's list is taken from the front: it must not keep every event
+ * taken (it grew by one per event, to gigabytes in a run). */
+static void rattle(int far)
+{
+    ecal c = {0};
+    CHECK(ecal_reset(&c, 1, 0, 0.0, 1.0) == 0);
+    if (far)
+        CHECK(ecal_push(&c, (eevent){0.9, 1, EV_WALL_X, 0, 0}) == 0);
+    CHECK(ecal_push(&c, (eevent){1e-7, 0, EV_WALL_X, 0, 0}) == 0);
+    long taken = 0, wrong = 0;
+    for (; taken < 1000000; taken++) {
+        const eevent *top = ecal_peek(&c);
+        CHECK(top != NULL);
+        eevent ev = *top;
+        ecal_pop(&c);
+        wrong += ev.a != 0 || ev.t != (double)(taken + 1) * 1e-7;
+        CHECK(ecal_push(&c, (eevent){(double)(taken + 2) * 1e-7, 0, EV_WALL_X, 0, 0}) == 0);
+    }
+    CHECK_MSG(wrong == 0, "rattle: %ld events out of order", wrong);
+    CHECK_MSG(c.heap.cap < 4 * 4096 && c.total == 1u + (unsigned)far,
+              "rattle (far %d): %zu events held for %zu in the calendar after %ld taken",
+              far, c.heap.cap, c.total, taken);
+    const eevent *top = ecal_peek(&c);   /* the near one, then the far one */
+    CHECK(top && top->a == 0);
+    ecal_pop(&c);
+    top = ecal_peek(&c);
+    CHECK(far ? top && top->a == 1 && top->t == 0.9 : top == NULL);
+    ecal_free(&c);
+}
+
 int main(void)
 {
+    rattle(1);
+    rattle(0);
     static eevent ref[MAXOPS];
     long n = run(0, 0, 1.0);
     for (long i = 0; i < n; i++)

@@ -99,16 +99,39 @@ static void destroy(void *p)
  * -1.  The authors' wall time (x - r) / -vx is not limited to the step, so
  * a disk outside would jump to the wall from any distance (a disk at
  * x = -1e6 moving at 0.5 reached x = 999927.5 in five steps): psim refuses
- * the scene, as the event model refuses overlaps.  Disks that straddle a
- * wall (centre within r of it, as in the course's scenes) run as the
- * authors' program runs them. */
-static long first_outside(const psim_sim *e)
+ * the scene, as the event model refuses overlaps.  With lo = 0 and
+ * hi = L (a 2024 scene: disks that straddle a wall, centre within r of
+ * it, as in that course's scenes, run as the authors' program runs them);
+ * with lo = r and hi = L - r, to --check's tolerance, a 2019 scene's rule
+ * (below). */
+static long first_outside(const psim_sim *e, double lo, double hi)
 {
     const psim_store *s = &e->st;   /* by id before the first sort */
     for (long i = 0; i < (long)s->n; i++)
-        if (!(s->x[i] >= 0 && s->x[i] <= e->L && s->y[i] >= 0 && s->y[i] <= e->L))
+        if (!(s->x[i] >= lo && s->x[i] <= hi && s->y[i] >= lo && s->y[i] <= hi))
             return i;
     return -1;
+}
+
+/* A 2019 scene's disks do not overlap the walls: the course's generator
+ * puts centres in [r, L - r], as are all its hand-made scenes', and the
+ * authors' wall time (x - r) / -vx of a disk that overlaps a wall lies
+ * outside the step (a disk at x = 0.5, r = 1, moving at -1 moved 2 in
+ * one step, to 2.5; one at rest fails --check at once). */
+static int overlaps_wall(const psim_sim *e, const psim_scene *sc, psim_error *err)
+{
+    const double tol = 1e-9 * fmax(1.0, e->L);   /* ccd_check's */
+    long i = first_outside(e, e->r - tol, e->L - e->r + tol);
+    if (i < 0)
+        return 0;
+    char at[320];
+    psim_scene_where(sc, i, at, sizeof at);
+    psim_error_set(err, "%sdisk %ld at (%.17g, %.17g) overlaps a wall: a 2019 scene's "
+                        "centres lie in [r, L - r] = [%.17g, %.17g] (the course's generator "
+                        "puts them there; the authors' wall rule has no time for a disk "
+                        "already past its contact)",
+                   at, i, e->st.x[i], e->st.y[i], e->r, e->L - e->r);
+    return 1;
 }
 
 /* Restart files carry each disk's collision counts, which the authors'
@@ -135,7 +158,8 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
 {
     /* (the model's own restart file holds a state the rule reached: a disk
      * that bounced off a wall may be a little outside) */
-    long out = psim_engine_restart_column(e, sc, "pair_collisions") ? -1 : first_outside(e);
+    int own = psim_engine_restart_column(e, sc, "pair_collisions") != NULL;
+    long out = own ? -1 : first_outside(e, 0, e->L);
     if (out >= 0) {
         char at[320];
         psim_scene_where(sc, out, at, sizeof at);
@@ -144,6 +168,8 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
                        at, out, e->st.x[out], e->st.y[out], sc->L);
         return NULL;
     }
+    if (!own && sc->format == PSIM_SCENE_2019 && overlaps_wall(e, sc, err))
+        return NULL;
     cmodel *m = calloc(1, sizeof *m);
     if (!m)
         goto oom;

@@ -94,11 +94,34 @@ static void run_sort(evec *r)
         sink(r->e, 0, k, r->e[k]);
 }
 
+/* The current bucket's run is taken from the front (first) and events that
+ * arrive for it meanwhile go in from the end, so a bucket that never runs
+ * dry grows by one entry per event taken: a disk rattling in a gap of
+ * 1e-7 r between a wall and another disk makes some 10^7 events a step,
+ * far more than the few a bucket's width was chosen for, and they grew the
+ * run to gigabytes.  Once the events taken are at least as many as those
+ * left (and a few thousand), the rest moves to the front: at most one move
+ * per event taken since the last, and the run's list never holds more than
+ * its events and as many again (or a few thousand) taken ones.  The order
+ * of the events is unchanged. */
+#define ECAL_COMPACT 4096
+static void run_compact(ecal *c)
+{
+    size_t live = c->heap.n - c->first;
+    if (c->first < ECAL_COMPACT || c->first < live)
+        return;
+    memmove(c->heap.e, c->heap.e + c->first, live * sizeof *c->heap.e);
+    c->heap.n = live;
+    c->first = 0;
+}
+
 static int place(ecal *c, eevent ev)
 {
     int64_t k = ecal_bucket_of(c, ev.t);
-    if (k == c->cur)
+    if (k == c->cur) {
+        run_compact(c);
         return run_insert(&c->heap, c->first, ev);
+    }
     if (k - c->cur < c->nb) {
         c->inbuckets++;
         return vec_push(&c->bucket[k & (c->nb - 1)], ev);

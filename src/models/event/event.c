@@ -179,8 +179,38 @@ static void restart_load(psim_sim *e, const psim_scene *sc, emodel *m)
     }
 }
 
+/* The smallest radius the model takes, relative to the box and absolute.
+ * Coordinates near L are kept to a double's round-off, about 2.2e-16 L:
+ * a contact, centres 2r apart, must span hundreds of those, or its line
+ * of centres is round-off (centres a few units apart), or nothing (both
+ * centres at one point: the collision divides 0 by 0).  And (2r)^2 times
+ * a squared speed must not underflow (r = 1e-170 in a box of 1e-160: NaN
+ * again). */
+#define EVENT_MIN_R_OVER_L 1e-13
+#define EVENT_MIN_R 1e-100
+
+static int radius_too_small(const psim_scene *sc, psim_error *err)
+{
+    if (sc->r >= EVENT_MIN_R_OVER_L * sc->L && sc->r >= EVENT_MIN_R)
+        return 0;
+    char at[320];
+    psim_scene_where_header(sc, PSIM_LINE_R, at, sizeof at);
+    if (sc->r < EVENT_MIN_R)
+        psim_error_set(err, "%sradius r = %g is below %g, the least the event model takes "
+                            "(its squared distances times squared speeds would underflow)",
+                       at, sc->r, EVENT_MIN_R);
+    else
+        psim_error_set(err, "%sradius r = %g is below %g of the box side (L = %g: r >= %g), "
+                            "the least the event model takes: coordinates near L are kept to "
+                            "about 2.2e-16 L, too coarse for contacts 2r apart",
+                       at, sc->r, EVENT_MIN_R_OVER_L, sc->L, EVENT_MIN_R_OVER_L * sc->L);
+    return 1;
+}
+
 static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
 {
+    if (radius_too_small(sc, err))
+        return NULL;
     emodel *m = calloc(1, sizeof *m);
     if (!m)
         goto oom;
