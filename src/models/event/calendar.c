@@ -100,10 +100,10 @@ static void run_sort(evec *r)
  * 1e-7 r between a wall and another disk makes some 10^7 events a step,
  * far more than the few a bucket's width was chosen for, and they grew the
  * run to gigabytes.  Once the events taken are at least as many as those
- * left (and a few thousand), the rest moves to the front: at most one move
- * per event taken since the last, and the run's list never holds more than
- * its events and as many again (or a few thousand) taken ones.  The order
- * of the events is unchanged. */
+ * left (and a few thousand), the rest moves to the front, when the list is
+ * full (so the usual insertion pays nothing): at most one move per event
+ * taken since the last, and the list never grows past twice its events (or
+ * a few thousand).  The order of the events is unchanged. */
 #define ECAL_COMPACT 4096
 static void run_compact(ecal *c)
 {
@@ -119,7 +119,8 @@ static int place(ecal *c, eevent ev)
 {
     int64_t k = ecal_bucket_of(c, ev.t);
     if (k == c->cur) {
-        run_compact(c);
+        if (c->heap.n == c->heap.cap)   /* full: the events taken go before it grows */
+            run_compact(c);
         return run_insert(&c->heap, c->first, ev);
     }
     if (k - c->cur < c->nb) {
