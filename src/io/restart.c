@@ -103,27 +103,29 @@ static int value_list(psim_restart *rs, const char *v)
     return rs->nvalues > 0 ? 0 : -1;
 }
 
-/* One KEY=VALUE of the header into sc; t is that text, a copy that may be
- * cut. */
-static int header_pair(psim_scene *sc, char *t, const char *name, long line, psim_error *err)
+/* The header's keys, indices into header_keys. */
+enum { HK_MODEL, HK_STEP, HK_FORMAT, HK_PRINT, HK_OPTIONS, HK_GRID, HK_CUTS, HK_VALUES,
+       HK_COLUMNS, HK_COUNT };
+static const char *const header_keys[HK_COUNT] = {
+    "model", "step", "format", "print", "options", "grid", "cuts", "values", "columns"};
+
+/* The value v of header key k into sc. */
+static int header_pair(psim_scene *sc, int k, char *v, const char *name, long line,
+                       psim_error *err)
 {
     psim_restart *rs = &sc->restart;
-    char *v = strchr(t, '=');
-    if (!v)
-        return bad(err, name, line, "expected KEY=VALUE, got", t);
-    *v++ = '\0';
-    if (!strcmp(t, "model")) {
+    if (k == HK_MODEL) {
         if (!word_ok(v, strlen(v), sizeof rs->model))
             return bad(err, name, line, "not a model name:", v);
         strcpy(rs->model, v);
-    } else if (!strcmp(t, "step")) {
+    } else if (k == HK_STEP) {
         char *end;
         errno = 0;
-        long k = strtol(v, &end, 10);
-        if (end == v || *end || errno || k < 0 || k > PSIM_MAX_STEPS)
+        long step = strtol(v, &end, 10);
+        if (end == v || *end || errno || step < 0 || step > PSIM_MAX_STEPS)
             return bad(err, name, line, "step must be an integer in 0..10^9, got", v);
-        rs->step = k;
-    } else if (!strcmp(t, "format")) {
+        rs->step = step;
+    } else if (k == HK_FORMAT) {
         if (!strcmp(v, "2024"))
             sc->format = PSIM_SCENE_2024;
         else if (!strcmp(v, "2019"))
@@ -132,37 +134,36 @@ static int header_pair(psim_scene *sc, char *t, const char *name, long line, psi
             sc->format = PSIM_SCENE_CS267;
         else
             return bad(err, name, line, "format must be 2024, 2019 or cs267, got", v);
-    } else if (!strcmp(t, "print")) {
+    } else if (k == HK_PRINT) {
         if (strcmp(v, "0") && strcmp(v, "1"))
             return bad(err, name, line, "print must be 0 or 1, got", v);
         sc->print = v[0] == '1';
-    } else if (!strcmp(t, "options")) {
+    } else if (k == HK_OPTIONS) {
         free(rs->options);
         if (!(rs->options = strdup(v))) {
             psim_error_set(err, "%s: out of memory", name);
             return -1;
         }
-    } else if (!strcmp(t, "grid")) {
-        int k = number_list(v, rs->grid, 7);
-        if ((k != 3 && k != 7) || !(rs->grid[0] > 0) || !(rs->grid[1] >= 0) ||
+    } else if (k == HK_GRID) {
+        int got = number_list(v, rs->grid, 7);
+        if ((got != 3 && got != 7) || !(rs->grid[0] > 0) || !(rs->grid[1] >= 0) ||
             rs->grid[2] < 0 || rs->grid[2] > 65536 || rs->grid[2] != floor(rs->grid[2]))
             return bad(err, name, line,
                        "grid must be REACH,OCC,TILE or REACH,OCC,TILE,X0,Y0,X1,Y1, got", v);
         rs->has_grid = 1;
-        rs->grid_has_bbox = k == 7;
-    } else if (!strcmp(t, "cuts")) {
+        rs->grid_has_bbox = got == 7;
+    } else if (k == HK_CUTS) {
         if (cut_list(rs, v))
             return bad(err, name, line,
                        "cuts must be 2 (T + 1) increasing cell numbers (0,...,G,0,...,G), got", v);
-    } else if (!strcmp(t, "values")) {
+    } else if (k == HK_VALUES) {
         if (value_list(rs, v))
             return bad(err, name, line, "values must be NAME:NUMBER,..., got", v);
-    } else if (!strcmp(t, "columns")) {
+    } else {   /* HK_COLUMNS */
         rs->ncols = 0;
         if (column_names(rs, v))
             return bad(err, name, line, "columns must be up to 8 names separated by commas, got", v);
-    } else
-        return bad(err, name, line, "unknown key", t);
+    }
     return 0;
 }
 
@@ -171,25 +172,27 @@ static int header_pair(psim_scene *sc, char *t, const char *name, long line, psi
 static int header_key(psim_scene *sc, const char *tok, size_t len, const char *name,
                       long line, unsigned *seen, psim_error *err)
 {
-    static const char *const keys[] = {"model", "step",  "format", "print",  "options",
-                                       "grid",  "cuts",  "values", "columns"};
     char *t = strndup(tok, len);
     if (!t) {
         psim_error_set(err, "%s: out of memory", name);
         return -1;
     }
-    size_t klen = strcspn(t, "=");
-    for (unsigned k = 0; k < sizeof keys / sizeof *keys; k++)
-        if (strlen(keys[k]) == klen && !strncmp(t, keys[k], klen)) {
-            if (*seen & (1u << k)) {
-                t[klen] = '\0';
-                int rc = bad(err, name, line, "key given twice:", t);
-                free(t);
-                return rc;
-            }
-            *seen |= 1u << k;
-        }
-    int rc = header_pair(sc, t, name, line, err);
+    char *v = strchr(t, '=');
+    int k = 0, rc;
+    if (v)
+        *v++ = '\0';
+    while (v && k < HK_COUNT && strcmp(t, header_keys[k]))
+        k++;
+    if (!v)
+        rc = bad(err, name, line, "expected KEY=VALUE, got", t);
+    else if (k == HK_COUNT)
+        rc = bad(err, name, line, "unknown key", t);
+    else if (*seen & (1u << k))
+        rc = bad(err, name, line, "key given twice:", t);
+    else {
+        *seen |= 1u << k;
+        rc = header_pair(sc, k, v, name, line, err);
+    }
     free(t);
     return rc;
 }
