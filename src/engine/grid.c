@@ -159,6 +159,14 @@ int psim_grid_cuts_ok(const int32_t *cut, int TG, int G)
     return 1;
 }
 
+/* of[c]: the column (row) of tiles of cell column (row) c, from the cuts. */
+static void tile_of_line(const int32_t *cut, int TG, int32_t *of)
+{
+    for (int j = 0; j < TG; j++)
+        for (int c = cut[j]; c < cut[j + 1]; c++)
+            of[c] = j;
+}
+
 void psim_grid_cut(psim_grid *g, const int32_t *cut_x, const int32_t *cut_y)
 {
     const int S = 1 << g->tile_shift;
@@ -168,12 +176,8 @@ void psim_grid_cut(psim_grid *g, const int32_t *cut_x, const int32_t *cut_y)
         g->cut_x[j] = cut_x ? cut_x[j] : u;
         g->cut_y[j] = cut_y ? cut_y[j] : u;
     }
-    for (int j = 0; j < g->TG; j++)
-        for (int c = g->cut_x[j]; c < g->cut_x[j + 1]; c++)
-            g->tcol[c] = j;
-    for (int j = 0; j < g->TG; j++)
-        for (int c = g->cut_y[j]; c < g->cut_y[j + 1]; c++)
-            g->trow[c] = j;
+    tile_of_line(g->cut_x, g->TG, g->tcol);
+    tile_of_line(g->cut_y, g->TG, g->trow);
     /* Tiles in rank order own consecutive cell ranks. */
     uint32_t next = 0;
     for (uint32_t t = 0; t < g->ntiles; t++) {
