@@ -84,6 +84,10 @@ same_file "$tmp/d7/ref.trace" "$tmp/d7/t4.trace" "d7: --trace of --threads 1 and
 # Many tiles: of 2x2 cells on the dense scene, of one cell on a smaller one.
 threads_1_2_3 d9tile2 "$tmp/d9.in" --tile 2
 (($(json_int "$tmp/d9tile2/ref.json" tiles) >= 100)) || fail "--tile 2 should give at least 100 tiles"
+# the rounds as a task graph instead of tiles taken heaviest first: the
+# same bytes (and at 2 and 3 threads, each way)
+threads_1_2_3 d9graph "$tmp/d9.in" --tile 2 --option rounds=0
+same_file "$tmp/d9tile2/ref.out" "$tmp/d9graph/ref.out" "--option rounds=0 against rounds=1"
 gen "$tmp/small.in" --n 1000 --r 2 --density 0.7 --steps 20 --seed 24
 threads_1_2_3 tile1 "$tmp/small.in" --tile 1
 (($(json_int "$tmp/tile1/ref.json" tiles) >= 100)) || fail "--tile 1 should give at least 100 tiles"

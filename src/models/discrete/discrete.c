@@ -91,8 +91,11 @@ static void tile_state_free(dmodel *m)
     psim_free(m->edges);
     psim_free(m->edge_res);
     psim_free(m->dep);
+    psim_free(m->order);
+    psim_free(m->order_key);
     m->chunks = NULL, m->tile_chunk0 = NULL, m->tiles = NULL;
-    m->edges = NULL, m->edge_res = NULL, m->dep = NULL;
+    m->edges = NULL, m->edge_res = NULL, m->dep = NULL, m->order = NULL;
+    m->order_key = NULL;
     m->ntiles = m->nchunks = 0;
     m->nedges = 0;
 }
@@ -103,7 +106,9 @@ static int tile_state_build(const psim_sim *e, dmodel *m)
     m->ntiles = e->grid.ntiles;
     m->tiles = psim_calloc(m->ntiles * sizeof *m->tiles);
     m->dep = psim_calloc(m->ntiles);
-    if (!m->tiles || !m->dep || build_edges(&e->grid, m) || build_chunks(&e->grid, m))
+    m->order = psim_alloc(m->ntiles * sizeof *m->order);
+    m->order_key = psim_alloc(m->ntiles * sizeof *m->order_key);
+    if (!m->tiles || !m->dep || !m->order || !m->order_key || build_edges(&e->grid, m) || build_chunks(&e->grid, m))
         return -1;
     return 0;
 }
@@ -141,6 +146,7 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
     double settle = psim_engine_option(e, "settle", SETTLE_DEFAULT);
     m->budget = (uint64_t)(settle * (double)(e->n > 0 ? e->n : 1));
     m->gens = (uint32_t)psim_engine_option(e, "gens", 1);
+    m->take = psim_engine_option(e, "rounds", 1) != 0;
     m->fl.enabled = psim_engine_option(e, "skip", 1) != 0;
     m->fl.gap = -1;
     m->fl.walls = 1;
@@ -256,6 +262,9 @@ const psim_model psim_model_discrete = {
                             "cut where the work is, every 8 steps)", 0, 1, 1},
                 {"gens", "generations of its worklist a tile resolves in a round, before "
                          "the contacts across tiles (default 1; 0: to its fixpoint)", 0, 1e9, 1},
+                {"rounds", "a round's tiles on threads: 1 heaviest first, each taken by the "
+                           "first thread free (default); 0 a task a tile, in the task graph "
+                           "with the edges (same results)", 0, 1, 1},
                 PSIM_SKIP_OPTION,
                 {NULL, NULL, 0, 0, 0}},
     .skips = {[DS_SEARCH] = {"search", "no pair could meet: sort, contacts, resolution"},

@@ -168,6 +168,12 @@ typedef struct dmodel {
     uint32_t *part_queue;    /* a worklist's room a part */
     uint32_t parts_cap;      /* disks they have room for */
     int parts_n;             /* parts they have room for */
+    /* a round's tiles taken by whichever thread is free (resolve.c) */
+    int take;                /* --option rounds (default 1); 0: a task a tile */
+    uint32_t *order;         /* per tile: the round's tiles, heaviest first */
+    uint64_t *order_key;     /* per tile: their sort keys */
+    uint32_t norder;
+    uint32_t next;           /* the next of them to take */
 } dmodel;
 
 /* Most parts of one tile's resolution (resolve.c). */

@@ -1,5 +1,6 @@
 /* Collision resolution to a fixpoint, as rounds of a task graph
  * (see discrete.h for the scheme and why it is deterministic). */
+#include <stdlib.h>
 #include <string.h>
 
 #include <omp.h>
@@ -264,20 +265,6 @@ static void edge_task(const psim_sim *e, dmodel *m, size_t k, int first)
     m->edge_res[k] = total;
 }
 
-static int edge_has_work(const dmodel *m, const dedge *ed)
-{
-    return m->tiles[ed->a].cross[ed->dir].n + m->tiles[ed->b].cross[DIR_OPP(ed->dir)].n > 0;
-}
-
-/* An edge can only find work if a tile task runs on one of its tiles this
- * round or edges changed one of them last round. */
-static int edge_may_change(const dmodel *m, const dedge *ed, int first)
-{
-    const dtile *a = &m->tiles[ed->a], *b = &m->tiles[ed->b];
-    return first || a->scheduled || b->scheduled || a->changed_cross_prev ||
-           b->changed_cross_prev;
-}
-
 static void timed_tile(const psim_sim *e, dmodel *m, dtile *t, int first)
 {
     wpart wp = {.queue = t->queue};
@@ -445,45 +432,145 @@ PSIM_TASK_SPAWN static void task_spawn_edge(const psim_sim *e, dmodel *m, size_t
     timed_edge(e, m, k, first);
 }
 
-/* Emit one round's task graph (with one thread, run its tasks in creation
- * order, which the dependences allow: no graph); returns the number of
- * work items. */
-static uint64_t emit_round(const psim_sim *e, dmodel *m, int first)
+/* A round's tiles taken by whichever thread is free (--option rounds=1,
+ * the default): the tiles that run, heaviest first (the disks each pops;
+ * in the first round, its disks), are a list that each thread takes the
+ * next of when it is free.  That is the classic list schedule, largest
+ * first; with the task graph the runtime chose which thread ran which
+ * tile, and with four tiles on two threads the two heaviest often landed
+ * on one (docs/performance.md, "Tiles taken heaviest first").  The tiles
+ * of a round share nothing, so the order they run in changes no result. */
+static uint32_t tile_weight(const dtile *t, int first)
 {
-    uint64_t tasks = 0;
+    return first ? t->p1 - t->p0 : t->qcount + t->nact;
+}
+
+static int cmp_key(const void *a, const void *b)
+{
+    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* m->order: the scheduled tiles, heaviest first, ties in tile order. */
+static void order_tiles(dmodel *m, int first)
+{
+    uint64_t *key = m->order_key;
+    uint32_t n = 0;
+    for (uint32_t ti = 0; ti < m->ntiles; ti++)
+        if (m->tiles[ti].scheduled)
+            key[n++] = (uint64_t)(UINT32_MAX - tile_weight(&m->tiles[ti], first)) << 32 | ti;
+    qsort(key, n, sizeof *key, cmp_key);
+    for (uint32_t k = 0; k < n; k++)
+        m->order[k] = (uint32_t)key[k];
+    m->norder = n;
+    m->next = 0;
+}
+
+static void take_tiles(const psim_sim *e, dmodel *m, int first)
+{
+    for (;;) {
+        uint32_t k;
+#pragma omp atomic capture
+        k = m->next++;
+        if (k >= m->norder)
+            return;
+        timed_tile(e, m, &m->tiles[m->order[k]], first);
+    }
+}
+
+PSIM_TASK_SPAWN static void task_spawn_taker(const psim_sim *e, dmodel *m, int first)
+{
+#pragma omp task default(none) firstprivate(e, m, first)
+    take_tiles(e, m, first);
+}
+
+/* The round's tiles, taken (inside the parallel region's single): a task
+ * for each other thread that can have a tile, and this thread takes too. */
+static void take_round(const psim_sim *e, dmodel *m, int first)
+{
+    order_tiles(m, first);
+    uint32_t helpers = (uint32_t)e->threads - 1;
+    if (helpers + 1 > m->norder)
+        helpers = m->norder ? m->norder - 1 : 0;
+    for (uint32_t k = 0; k < helpers; k++)
+        task_spawn_taker(e, m, first);
+    take_tiles(e, m, first);
+#pragma omp taskwait
+}
+
+/* Edges whose contacts, over the round, are fewer than this run on the
+ * thread that made the round, one after the other: an edge task of ~50
+ * contacts (the course's scenes) costs as much to make and hand over as
+ * its work. */
+#define EDGES_INLINE_CONTACTS 1024
+
+static size_t edge_contacts(const dmodel *m, const dedge *ed)
+{
+    return m->tiles[ed->a].cross[ed->dir].n + m->tiles[ed->b].cross[DIR_OPP(ed->dir)].n;
+}
+
+/* An edge can only find work if it has contacts and a tile task runs on
+ * one of its tiles this round or edges changed one of them last round. */
+static int edge_runs(const dmodel *m, const dedge *ed, int first)
+{
+    const dtile *a = &m->tiles[ed->a], *b = &m->tiles[ed->b];
+    return edge_contacts(m, ed) > 0 &&
+           (first || a->scheduled || b->scheduled || a->changed_cross_prev ||
+            b->changed_cross_prev);
+}
+
+/* Run the round's tiles; returns how many. */
+static uint64_t round_tiles(const psim_sim *e, dmodel *m, int first)
+{
+    uint64_t tiles = 0;
     const int graph = e->threads > 1;
     for (uint32_t ti = 0; ti < m->ntiles; ti++) {
         dtile *t = &m->tiles[ti];
         t->changed_border = 0;
         t->round_res = 0;
         t->scheduled = t->p0 != t->p1 && (first || t->nact || t->qcount);
+        tiles += t->scheduled;
     }
+    if (graph && m->take && m->ntiles > 1) {
+        take_round(e, m, first);
+        return tiles;
+    }
+    uint64_t extra = 0;
     for (uint32_t ti = 0; ti < m->ntiles; ti++) {
         dtile *t = &m->tiles[ti];
         if (!t->scheduled)
             continue;
-        tasks++;
-        if (!graph) {
+        if (!graph)
             timed_tile(e, m, t, first);
-            continue;
-        }
-        if (use_parts(e, m, t, first) && resolve_parts(e, m, t) == 0) {
-            tasks += (uint64_t)e->threads - 1;
-            continue;
-        }
-        task_spawn_tile(e, m, t, ti, first);
+        else if (use_parts(e, m, t, first) && resolve_parts(e, m, t) == 0)
+            extra += (uint64_t)e->threads - 1;
+        else
+            task_spawn_tile(e, m, t, ti, first);
     }
+    return tiles + extra;
+}
+
+/* Emit one round: its tiles, then its edges (with one thread, or a round
+ * whose edges are few, they run in creation order on this thread, which
+ * the dependences allow: no graph); returns the number of work items. */
+static uint64_t emit_round(const psim_sim *e, dmodel *m, int first)
+{
+    uint64_t tasks = round_tiles(e, m, first);
+    size_t contacts = 0;
     for (size_t k = 0; k < m->nedges; k++) {
-        const dedge *ed = &m->edges[k];
         m->edge_res[k] = 0;
-        if (!edge_has_work(m, ed) || !edge_may_change(m, ed, first))
+        if (edge_runs(m, &m->edges[k], first))
+            contacts += edge_contacts(m, &m->edges[k]);
+    }
+    const int graph = e->threads > 1 && !(m->take && contacts < EDGES_INLINE_CONTACTS);
+    for (size_t k = 0; k < m->nedges; k++) {
+        if (!edge_runs(m, &m->edges[k], first))
             continue;
         tasks++;
-        if (!graph) {
+        if (graph)
+            task_spawn_edge(e, m, k, first);
+        else
             timed_edge(e, m, k, first);
-            continue;
-        }
-        task_spawn_edge(e, m, k, first);
     }
     return tasks;
 }
