@@ -206,8 +206,11 @@ typedef struct psim_stats {
     uint64_t skipped[PSIM_SKIPS_MAX];
     int grid_cells;          /* cells per side (0: the model uses no grid) */
     double cell_side;        /* side of a cell (> the model's reach) */
-    int tile_cells;          /* cells per tile side */
+    int tile_cells;          /* cells per tile side, unless cut */
     int tiles;               /* tiles holding cells */
+    int tiles_per_side;      /* tiles per side of the grid */
+    int tiles_cut;           /* the model cut the tiles where its work was:
+                              * they are no longer tile_cells a side */
 } psim_stats;
 
 typedef struct psim_sim psim_sim;

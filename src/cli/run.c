@@ -513,7 +513,12 @@ static void print_summary(FILE *f, const run_opts *o, const psim_scene *sc,
     psim_print_skips(f, s);
     if (cli_wait_note())
         fprintf(f, "  OpenMP wait policy %s\n", cli_wait_note());
-    if (st->grid_cells > 0)
+    if (st->grid_cells > 0 && st->tiles_cut)
+        fprintf(f, "  grid %d x %d cells of side %g, %d x %d tiles cut where the work was "
+                   "(%d tiles)\n",
+                st->grid_cells, st->grid_cells, st->cell_side, st->tiles_per_side,
+                st->tiles_per_side, st->tiles);
+    else if (st->grid_cells > 0)
         fprintf(f, "  grid %d x %d cells of side %g, tiles of %d x %d cells (%d tiles)\n",
                 st->grid_cells, st->grid_cells, st->cell_side, st->tile_cells,
                 st->tile_cells, st->tiles);

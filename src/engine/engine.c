@@ -146,12 +146,15 @@ int psim_engine_grid_tiles(psim_sim *e, double reach, const double *bbox, double
     e->stats.cell_side = e->grid.h;
     e->stats.tile_cells = 1 << e->grid.tile_shift;
     e->stats.tiles = (int)e->grid.ntiles;
+    e->stats.tiles_per_side = e->grid.TG;
+    e->stats.tiles_cut = e->grid.cut;
     return 0;
 }
 
 void psim_engine_grid_cut(psim_sim *e, const int32_t *cut_x, const int32_t *cut_y)
 {
     psim_grid_cut(&e->grid, cut_x, cut_y);
+    e->stats.tiles_cut = e->grid.cut;
 }
 
 static int snapshot_alloc(psim_snapshot *s, long n)

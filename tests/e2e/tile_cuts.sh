@@ -23,6 +23,12 @@ cuts=$(json_int "$tmp/cut.json" tile_cuts)
 (($(json_int "$tmp/cut.json" tiles) == 4)) || fail "10000 disks should run as 4 tiles"
 ((cuts >= 1)) || fail "the piling scene should have its tiles cut anew (tile_cuts $cuts)"
 (($(json_int "$tmp/square.json" tile_cuts) == 0)) || fail "balance=0 still cut the tiles"
+# the stats and the summary say the tiles are cut, not the square ones
+grep -q '"tiles_cut": true' "$tmp/cut.json" || fail "--stats should say tiles_cut true"
+grep -q '"tiles_cut": false' "$tmp/square.json" || fail "--stats should say tiles_cut false for balance=0"
+run_ok "$PSIM" --threads 1 --steps 40 "$tmp/pile.in" >"$tmp/summary.txt"
+grep -q "2 x 2 tiles cut where the work was (4 tiles)" "$tmp/summary.txt" ||
+    fail "the summary should name the cut tiles: $(grep grid "$tmp/summary.txt")"
 cut=$(json_int "$tmp/cut.json" pair_resolutions)
 square=$(json_int "$tmp/square.json" pair_resolutions)
 ((100 * cut <= 105 * square && 100 * cut >= 95 * square)) ||
