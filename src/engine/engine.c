@@ -87,6 +87,17 @@ void psim_engine_tile_particles(psim_sim *e, double particles)
     e->tile_particles = particles;
 }
 
+/* The grid's cells and tiles, as --stats and the summary show them. */
+static void grid_stats(psim_sim *e)
+{
+    e->stats.grid_cells = e->has_grid ? e->grid.G : 0;
+    e->stats.cell_side = e->grid.h;
+    e->stats.tile_cells = 1 << e->grid.tile_shift;
+    e->stats.tiles = (int)e->grid.ntiles;
+    e->stats.tiles_per_side = e->grid.TG;
+    e->stats.tiles_cut = e->grid.cut;
+}
+
 int psim_engine_grid(psim_sim *e, double reach, const double *bbox)
 {
     return psim_engine_grid_occ(e, reach, bbox, 0);
@@ -142,19 +153,14 @@ int psim_engine_grid_tiles(psim_sim *e, double reach, const double *bbox, double
         psim_grid_cuts_ok(e->cuts_saved, TG, e->grid.G) &&
         psim_grid_cuts_ok(e->cuts_saved + TG + 1, TG, e->grid.G))
         psim_grid_cut(&e->grid, e->cuts_saved, e->cuts_saved + TG + 1);
-    e->stats.grid_cells = e->has_grid ? e->grid.G : 0;
-    e->stats.cell_side = e->grid.h;
-    e->stats.tile_cells = 1 << e->grid.tile_shift;
-    e->stats.tiles = (int)e->grid.ntiles;
-    e->stats.tiles_per_side = e->grid.TG;
-    e->stats.tiles_cut = e->grid.cut;
+    grid_stats(e);
     return 0;
 }
 
 void psim_engine_grid_cut(psim_sim *e, const int32_t *cut_x, const int32_t *cut_y)
 {
     psim_grid_cut(&e->grid, cut_x, cut_y);
-    e->stats.tiles_cut = e->grid.cut;
+    grid_stats(e);
 }
 
 static int snapshot_alloc(psim_snapshot *s, long n)

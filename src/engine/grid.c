@@ -138,8 +138,8 @@ int psim_grid_init_occ(psim_grid *g, double L, double r, double reach, long n,
     g->tcol = psim_alloc((size_t)g->G * sizeof *g->tcol);
     g->trow = psim_alloc((size_t)g->G * sizeof *g->trow);
     if (!g->cut_x || !g->cut_y || !g->tcol || !g->trow || !g->rank_of_xy || !g->cell_x ||
-        !g->cell_y || !g->cellstart || !g->tile_of_xy || !g->tile_x || !g->tile_y || !g->tile_cell0 ||
-        !g->tile_wall) {
+        !g->cell_y || !g->cellstart || !g->tile_of_xy || !g->tile_x || !g->tile_y ||
+        !g->tile_cell0 || !g->tile_wall) {
         psim_grid_free(g);
         return -1;
     }

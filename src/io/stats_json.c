@@ -70,8 +70,8 @@ int psim_write_stats_json(FILE *f, const psim_sim *e, const char *scene_name,
     char h[PSIM_FORMAT_MAX];
     psim_format_double(h, s->cell_side, -1);
     fprintf(f, "  \"grid_cells\": %d,\n  \"cell_side\": %s,\n  \"tile_cells\": %d,\n"
-               "  \"tiles\": %d,\n  \"tiles_cut\": %s,\n", s->grid_cells, h, s->tile_cells, s->tiles,
-               s->tiles_cut ? "true" : "false");
+               "  \"tiles\": %d,\n  \"tiles_cut\": %s,\n",
+            s->grid_cells, h, s->tile_cells, s->tiles, s->tiles_cut ? "true" : "false");
     fprintf(f, "  \"time_s\": %.6f,\n  \"phases_s\": {", total_s);
     for (int p = 0; p < s->nphases; p++)
         fprintf(f, "%s\"%s\": %.6f", p ? ", " : "", s->phase_name[p], s->phase_s[p]);

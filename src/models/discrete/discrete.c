@@ -92,10 +92,8 @@ static void tile_state_free(dmodel *m)
     psim_free(m->edge_res);
     psim_free(m->dep);
     psim_free(m->order);
-    psim_free(m->order_key);
     m->chunks = NULL, m->tile_chunk0 = NULL, m->tiles = NULL;
     m->edges = NULL, m->edge_res = NULL, m->dep = NULL, m->order = NULL;
-    m->order_key = NULL;
     m->ntiles = m->nchunks = 0;
     m->nedges = 0;
 }
@@ -107,8 +105,8 @@ static int tile_state_build(const psim_sim *e, dmodel *m)
     m->tiles = psim_calloc(m->ntiles * sizeof *m->tiles);
     m->dep = psim_calloc(m->ntiles);
     m->order = psim_alloc(m->ntiles * sizeof *m->order);
-    m->order_key = psim_alloc(m->ntiles * sizeof *m->order_key);
-    if (!m->tiles || !m->dep || !m->order || !m->order_key || build_edges(&e->grid, m) || build_chunks(&e->grid, m))
+    if (!m->tiles || !m->dep || !m->order || build_edges(&e->grid, m) ||
+        build_chunks(&e->grid, m))
         return -1;
     return 0;
 }

@@ -4,19 +4,21 @@
  * positions frozen, find the contacts (pairs at distance <= 2r) once and
  * resolve collisions to a fixpoint over the contacts only.
  *
- * Resolution runs in rounds.  A round is one OpenMP task graph:
- *   - one "tile" task per tile with work, depend(inout: tile): one
- *     generation of a first-in first-out worklist over the contacts inside
- *     the tile (and the walls, for border tiles): the disks queued when
- *     the round began, re-checking only disks whose velocity changed; the
- *     disks their resolutions queue wait for the tile's next round
- *     (--option gens=K: K generations; 0: the tile's fixpoint);
- *   - one "edge" task per pair of adjacent tiles with contacts across their
- *     border, depend(inout: both tiles): a fixpoint over those contacts,
- *     whose changed disks join their tiles' queues.
- * Tasks that share a tile run in creation order, so every velocity sees the
- * same sequence of updates whatever the thread count: output is identical
- * for 1 or 64 threads.  Rounds repeat until one resolves nothing.  A round
+ * Resolution runs in rounds.  A round runs, for every tile with work, one
+ * generation of a first-in first-out worklist over the contacts inside the
+ * tile (and the walls, for border tiles): the disks queued when the round
+ * began, re-checking only disks whose velocity changed; the disks their
+ * resolutions queue wait for the tile's next round (--option gens=K: K
+ * generations; 0: the tile's fixpoint).  The tiles share no disk: the
+ * threads take them heaviest first, each the next when it is free
+ * (--option rounds=0: a task a tile, depend(inout: tile)).  Then, for
+ * every pair of adjacent tiles with contacts across their border, an
+ * "edge" task, depend(inout: both tiles) (or, when they are few, all of
+ * them on one thread in creation order): a fixpoint over those contacts,
+ * whose changed disks join their tiles' queues.  Edges that share a tile
+ * run in creation order, so every velocity sees the same sequence of
+ * updates whatever the thread count: output is identical for 1 or 64
+ * threads.  Rounds repeat until one resolves nothing.  A round
  * of one generation keeps the one worklist's order across tile borders
  * closely enough that small tiles cost no more resolutions than one tile
  * (a tile resolved to its fixpoint against stale borders sends waves back
@@ -170,8 +172,8 @@ typedef struct dmodel {
     int parts_n;             /* parts they have room for */
     /* a round's tiles taken by whichever thread is free (resolve.c) */
     int take;                /* --option rounds (default 1); 0: a task a tile */
-    uint32_t *order;         /* per tile: the round's tiles, heaviest first */
-    uint64_t *order_key;     /* per tile: their sort keys */
+    uint64_t *order;         /* per tile: the round's tiles, heaviest first
+                              * (keys: the tile in the low 32 bits) */
     uint32_t norder;
     uint32_t next;           /* the next of them to take */
 } dmodel;

@@ -451,17 +451,15 @@ static int cmp_key(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* m->order: the scheduled tiles, heaviest first, ties in tile order. */
+/* m->order: the scheduled tiles, heaviest first, ties in tile order (a
+ * key's high half is the weight's complement, its low half the tile). */
 static void order_tiles(dmodel *m, int first)
 {
-    uint64_t *key = m->order_key;
     uint32_t n = 0;
     for (uint32_t ti = 0; ti < m->ntiles; ti++)
         if (m->tiles[ti].scheduled)
-            key[n++] = (uint64_t)(UINT32_MAX - tile_weight(&m->tiles[ti], first)) << 32 | ti;
-    qsort(key, n, sizeof *key, cmp_key);
-    for (uint32_t k = 0; k < n; k++)
-        m->order[k] = (uint32_t)key[k];
+            m->order[n++] = (uint64_t)(UINT32_MAX - tile_weight(&m->tiles[ti], first)) << 32 | ti;
+    qsort(m->order, n, sizeof *m->order, cmp_key);
     m->norder = n;
     m->next = 0;
 }
@@ -474,7 +472,7 @@ static void take_tiles(const psim_sim *e, dmodel *m, int first)
         k = m->next++;
         if (k >= m->norder)
             return;
-        timed_tile(e, m, &m->tiles[m->order[k]], first);
+        timed_tile(e, m, &m->tiles[(uint32_t)m->order[k]], first);
     }
 }
 
