@@ -24,7 +24,9 @@
 #
 # Times are psim's time_s from --stats (the steps, without start-up).
 # Before timing, the fast path is checked against --naive (identical bytes)
-# on n = 1000, 100 steps.
+# on n = 1000, 100 steps.  With two CPUs or more it also prints, before and
+# after, the speed-up the CPUs allow now (bench/cpu_speeds.sh): a shared
+# host's slow spell, not the build, then bounds the thread counts' figures.
 set -euo pipefail
 
 runs=3
@@ -44,7 +46,7 @@ while [ $# -gt 0 ]; do
         --weak) weak="$2"; shift 2 ;;
         --plot) plot="$2"; shift 2 ;;
         --skin) skin="$2"; shift 2 ;;
-        -h|--help) sed -n '2,27p' "$0"; exit 0 ;;
+        -h|--help) sed -n '2,29p' "$0"; exit 0 ;;
         -*) echo "unknown option: $1" >&2; exit 2 ;;
         *) build="$1"; shift ;;
     esac
@@ -98,6 +100,15 @@ psim_time() {  # n threads -> median time_s of the measured runs
 cmp -s "$tmp/fast.txt" "$tmp/naive.txt" || { echo "fast path and --naive DIFFER" >&2; exit 1; }
 echo "check: n 1000, 100 steps: fast path and --naive outputs are byte-identical"
 echo "load average at start: $(cut -d" " -f1-3 /proc/loadavg); runs: $runs (median), steps: $steps"
+# what the CPUs allow now (a shared VM's host changes it for minutes at
+# a time: docs/performance.md, "The host's two spells"), before and after
+cpus_now() {
+    if [ "$(nproc)" -ge 2 ] && command -v taskset >/dev/null; then
+        echo "CPUs $1 (bench/cpu_speeds.sh --runs 3): $("$(dirname "$0")/cpu_speeds.sh" --runs 3 \
+            --psim "$psim" | tail -1)"
+    fi
+}
+cpus_now "at the start"
 echo
 # the table: a time per thread count, then each count's speed-up over one
 # thread and its strong-scaling efficiency
@@ -173,3 +184,4 @@ if sys.argv[2]:
     fig.tight_layout(); fig.savefig(sys.argv[2], dpi=110)
     print("plot: %s" % sys.argv[2])
 PY
+cpus_now "at the end"
