@@ -1,10 +1,13 @@
-/* psim: entry point; checks the environment's thread count, dispatches
- * to the subcommands and reports a standard output that could not be
- * written (a full disk, /dev/full, a closed pipe). */
+/* psim: entry point; makes sure the standard descriptors are open,
+ * checks the environment's thread count, dispatches to the subcommands
+ * and reports a standard output that could not be written (a full disk,
+ * /dev/full, a closed pipe). */
 #include <errno.h>
+#include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "cli.h"
 
@@ -21,8 +24,38 @@ static int command(int argc, char **argv)
     return cli_run(argc, argv);
 }
 
+/* Descriptors 0, 1 and 2 open before psim opens anything: a file opened
+ * later would otherwise take a closed one's number and get what is meant
+ * for standard output or error, or be read as standard input.  A closed
+ * one gets /dev/null opened the other way round (write-only for input,
+ * read-only for output, as gnulib's stdopen does), so that using it still
+ * fails as using a closed descriptor does: a '-' output to a closed
+ * standard output is a write error, not a silent loss.  0, or -1 when one
+ * cannot be opened (no /dev/null: the root folder, read-only, instead). */
+static int open_std_fds(void)
+{
+    for (int fd = 0; fd <= 2; fd++) {
+        if (fcntl(fd, F_GETFD) >= 0 || errno != EBADF)
+            continue;
+        /* the lowest free number: fd itself, the ones below being open */
+        int got = open("/dev/null", fd == 0 ? O_WRONLY : O_RDONLY);
+        if (got < 0)
+            got = open("/", O_RDONLY | O_DIRECTORY);
+        if (got != fd) {
+            if (got >= 0)
+                close(got);
+            return -1;
+        }
+    }
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
+    if (open_std_fds()) {
+        fprintf(stderr, "psim: cannot open /dev/null on a closed standard descriptor\n");
+        return 1;
+    }
     if (cli_env_threads())
         return 2;
     cli_set_argv(argv);
