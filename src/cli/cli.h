@@ -44,14 +44,23 @@ int cli_double(const char *opt, const char *text, double lo, double hi,
 void cli_bad_option(const char *cmd, char **argv, int c);
 
 /* An output file that appears only when complete.  A regular file (or a
- * path that does not exist yet; a symbolic link is followed) is written to a
- * temporary file beside it and renamed into place by outfile_commit_all;
- * anything else (a device, a FIFO) is written directly; "-" is standard
- * output.  Temporary files are removed on failure and on the signals that
- * end a run (INT, TERM, HUP, QUIT, PIPE, ALRM, XCPU, XFSZ, VTALRM, PROF,
- * USR1, USR2). */
+ * path that does not exist yet; a symbolic link is followed) is written to
+ * an unnamed file in its folder (O_TMPFILE) and linked into place by
+ * outfile_commit_all (over an old file: linked as ".psim-XXXXXX" beside it
+ * and renamed over it), so that nothing is left whatever ends the process,
+ * SIGKILL and faults included.  Where the file system has no unnamed files
+ * or /proc is missing, the fallback writes a temporary file ".psim-XXXXXX"
+ * beside it and renames it into place; that file is removed on failure,
+ * on the signals that end a run (INT, TERM, HUP, QUIT, PIPE, ALRM, XCPU,
+ * XFSZ, VTALRM, PROF, USR1, USR2) and on faults (SEGV, BUS, ABRT, TRAP,
+ * FPE, ILL, SYS), and is left only by SIGKILL or a lost machine.  Any
+ * other path (a device, a FIFO) is written directly; "-" is standard
+ * output.  The file replaced keeps its permissions; a new one gets
+ * 0666 less the umask; a read-only file is refused. */
 typedef struct outfile {
-    char *path, *tmp;   /* tmp is NULL when writing directly */
+    char *path;         /* the file to replace; NULL when writing directly */
+    char *tmp;          /* the fallback's temporary file, or NULL */
+    int unnamed, fd;    /* fd keeps the unnamed file to link, if unnamed */
     const char *name;   /* for messages */
     FILE *f;
 } outfile;
@@ -60,11 +69,31 @@ int outfile_open(outfile *o, const char *path);
 /* The absolute name of path, whether or not it exists yet, through its
  * symbolic links (malloc'd; NULL when its folder cannot be found). */
 char *cli_canonical(const char *path);
-/* Close every open file of list, then, if all were written, rename them
- * into place; otherwise remove them all.  One error line on failure. */
+/* Close every open file of list, then, if all were written, put them in
+ * place; otherwise remove them all.  One error line on failure. */
 int outfile_commit_all(outfile *const *list, int n);
 int outfile_commit(outfile *o);
 void outfile_abort(outfile *o);
+
+/* A file a command reads or writes, as the command line names it: opt is
+ * the option ("--out") or, for an input, what it is ("scene"); NULL for
+ * an output names standard output.  path NULL: not given; "-": standard
+ * input (an input) or standard output (an output). */
+typedef struct cli_path {
+    const char *opt, *path;
+} cli_path;
+
+/* No output may overwrite an input or share a file or a stream with
+ * another output, whatever the paths' spelling: by the same name, through
+ * links, /dev/stdout, /dev/stdin or /proc/self/fd/N, or through standard
+ * input or output bound to the file.  Two outputs are one when they reach
+ * the same file, pipe, socket or device (character devices by device
+ * number) or will be the same new file; /dev/null may take any number.
+ * An output overwrites an input that is the same file or pipe (a
+ * terminal or socket may be read and written).  0, or 2 after one line
+ * starting "who: ". */
+int cli_check_paths(const char *who, const cli_path *in, int nin, const cli_path *out,
+                    int nout);
 
 /* Progress on stderr after ~1 s: a bar on a terminal; elsewhere (batch
  * jobs, logs) a line every PROGRESS_LINE_S seconds. */

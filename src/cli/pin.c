@@ -178,6 +178,12 @@ int cli_plan(int argc, char **argv)
         fprintf(stderr, "psim %s: unexpected argument '%s'\n", cmd, argv[optind]);
         return 2;
     }
+    /* what it prints must not overwrite the topology it reads */
+    char who[16];
+    snprintf(who, sizeof who, "psim %s", topo_only ? "topo" : "plan");
+    const cli_path in = {"--topology file", p.topology}, out = {NULL, "-"};
+    if (cli_check_paths(who, &in, 1, &out, 1))
+        return 2;
     psim_error err = {{0}, 0};
     p.topo = psim_topo_load(p.topology, &err);
     if (!p.topo) {

@@ -128,76 +128,25 @@ static void run_usage(FILE *f)
 "--check, collisions that do not settle), 2 usage.\n");
 }
 
-/* Whether two paths name the same file: the same text, the same existing
- * file (device and inode) under two names, or the same place to be. */
-static int same_file(const char *a, const char *b)
-{
-    struct stat sa, sb;
-    if (strcmp(a, b) == 0)
-        return 1;
-    if (stat(a, &sa) == 0 && stat(b, &sb) == 0)
-        return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
-    char *ca = cli_canonical(a), *cb = cli_canonical(b);
-    int same = ca && cb && strcmp(ca, cb) == 0;
-    free(ca), free(cb);
-    return same;
-}
+/* The options of the outputs, in the order of output_paths. */
+static const char *const output_opts[RUN_OUTPUTS] = {
+    "--out", "--trace", "--final", "--stats", "--thermo-file", "--dump", "--restart"};
 
-/* "-" or an existing device or FIFO: may take several outputs */
-static int is_stream(const char *path)
+/* No output may overwrite an input (the scene, the --topology file) or
+ * share its file or stream with another output, under any name
+ * (cli_check_paths); model_out, if not NULL, names the model's output
+ * written to standard output without --out.  0, or 2 after one line. */
+static int check_outputs(const run_opts *o, const char *model_out)
 {
-    struct stat st;
-    return !strcmp(path, "-") || (stat(path, &st) == 0 && !S_ISREG(st.st_mode));
-}
-
-/* The regular file that path writes to, if one exists now: "-" is
- * standard output, and a name is followed through its links (/dev/stdout,
- * /proc/self/fd/1); 0 when there is none. */
-static int regular_file(const char *path, int fd, struct stat *st)
-{
-    int ok = !strcmp(path, "-") ? fstat(fd, st) == 0 : stat(path, st) == 0;
-    return ok && S_ISREG(st->st_mode);
-}
-
-static int same_inode(const struct stat *a, const struct stat *b)
-{
-    return a->st_dev == b->st_dev && a->st_ino == b->st_ino;
-}
-
-/* No output may overwrite the scene or another output: not by the same
- * name, not through a link, nor through standard input or output
- * redirected to the same file; and standard output takes one output. */
-static int check_outputs(const run_opts *o)
-{
-    static const char names[] =
-        "(--out, --trace, --final, --stats, --thermo-file, --dump, --restart)";
     const char *files[RUN_OUTPUTS];
     output_paths(o, files);
-    struct stat in, fa, fb;
-    int in_ok = o->scene && regular_file(o->scene, 0, &in);
-    for (int a = 0; a < RUN_OUTPUTS; a++) {
-        if (!files[a])
-            continue;
-        int a_ok = regular_file(files[a], 1, &fa);
-        for (int b = a + 1; b < RUN_OUTPUTS; b++) {
-            if (!files[b])
-                continue;
-            int twice = !strcmp(files[a], "-") && !strcmp(files[b], "-");
-            if (twice || (!is_stream(files[a]) && same_file(files[a], files[b])) ||
-                (a_ok && regular_file(files[b], 1, &fb) && same_inode(&fa, &fb))) {
-                fprintf(stderr, "psim: '%s' is named for two outputs %s\n", files[a], names);
-                return 2;
-            }
-        }
-        if ((o->scene && strcmp(o->scene, "-") && !is_stream(files[a]) &&
-             same_file(files[a], o->scene)) ||
-            (in_ok && a_ok && same_inode(&fa, &in))) {
-            fprintf(stderr, "psim: '%s' is the scene: an output must not overwrite it\n",
-                    files[a]);
-            return 2;
-        }
-    }
-    return 0;
+    cli_path out[RUN_OUTPUTS];
+    for (int k = 0; k < RUN_OUTPUTS; k++)
+        out[k] = (cli_path){output_opts[k], files[k]};
+    if (model_out && !files[0])
+        out[0] = (cli_path){model_out, "-"};
+    const cli_path in[] = {{"scene", o->scene}, {"--topology file", o->pin.topology}};
+    return cli_check_paths("psim", in, 2, out, RUN_OUTPUTS);
 }
 
 static int known_model(const char *name)
@@ -387,7 +336,7 @@ static int parse_run(int argc, char **argv, run_opts *o)
         }
         o->threads = t;
     }
-    return check_outputs(o);
+    return check_outputs(o, NULL);
 }
 
 static int default_scene(psim_scene *sc, psim_error *err)
@@ -524,17 +473,25 @@ static void print_summary(FILE *f, const run_opts *o, const psim_scene *sc,
                 st->tile_cells, st->tiles);
 }
 
-static int open_outputs(const run_opts *o, run_state *rs)
+/* Open the outputs; 0, 1 when one cannot be opened, 2 when the model's
+ * output goes to standard output (its source prints there) and another
+ * output or an input is there already (named "the MODEL model's output"). */
+static int open_outputs(const run_opts *o, run_state *rs, const char *model)
 {
     const char *path[RUN_OUTPUTS];
     outfile *of[RUN_OUTPUTS];
     output_paths(o, path);
     output_files(rs, of);
-    if (!path[0] && rs->style.to_stdout)
-        path[0] = "-";   /* the model's source prints to standard output */
+    if (!path[0] && rs->style.to_stdout) {
+        char label[64];
+        snprintf(label, sizeof label, "the %s model's output", model);
+        if (check_outputs(o, label))
+            return 2;
+        path[0] = "-";
+    }
     for (int k = 0; k < RUN_OUTPUTS; k++)
         if (path[k] && outfile_open(of[k], path[k]))
-            return -1;
+            return 1;
     return 0;
 }
 
@@ -795,8 +752,11 @@ int cli_run(int argc, char **argv)
     rs.style = psim_get_output_style(s);
     rs.print = rs.style.every_step && sc.print;
     thermo_init(&rs.th, o.thermo);
-    if (open_outputs(&o, &rs))
+    int opened = open_outputs(&o, &rs, psim_sim_model(s));
+    if (opened) {
+        rc = opened;
         goto done;
+    }
     double t0 = psim_now();
     if (simulate(&o, s, &sc, &cfg, steps, &rs, &err)) {
         fprintf(stderr, "psim: %s: %s\n", o.label, err.msg);

@@ -13,7 +13,7 @@ gen "$tmp/s.in" --n 200 --L 200 --r 1 --steps 5 --seed 3
 no_temps()
 {
     local left
-    left=$(cd "$tmp" && ls -- *.tmp* 2>/dev/null || true)
+    left=$(cd "$tmp" && ls -d -- *.tmp* .psim-* 2>/dev/null || true)
     [[ -z $left ]] || fail "$1: temporary files left: $left"
 }
 

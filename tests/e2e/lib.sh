@@ -105,3 +105,26 @@ json_int()
 {
     sed -n "s/^ *\"$2\": \([0-9]*\),\{0,1\}\$/\1/p" "$1"
 }
+
+# outputs_open PID DIR [N]: wait (10 s at most) until psim's process PID
+# holds at least N (default 1) descriptors of output files in DIR that are
+# not in place yet: unnamed files ("DIR/#INODE (deleted)", two descriptors
+# each) or the fallback's ".psim-*"; fail if PID ends or the time runs out
+# first (PID is then killed).
+outputs_open()
+{
+    local pid=$1 dir want=${3:-1} k fd n t
+    dir=$(cd "$2" && pwd -P)
+    for ((k = 0; k < 200; k++)); do
+        n=0
+        for fd in /proc/"$pid"/fd/*; do
+            t=$(readlink "$fd" 2>/dev/null) || continue
+            [[ $t == "$dir/#"*" (deleted)" || $t == "$dir/.psim-"* ]] && n=$((n + 1))
+        done
+        ((n >= want)) && return 0
+        kill -0 "$pid" 2>/dev/null || fail "process $pid ended before it opened its outputs in $dir"
+        sleep 0.05
+    done
+    kill -KILL "$pid" 2>/dev/null || true
+    fail "process $pid did not open its outputs in $dir in 10 s"
+}

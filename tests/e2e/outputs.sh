@@ -23,7 +23,7 @@ run_ok "$PSIM" --quiet --out /dev/null --stats /dev/null "$tmp/s.in"
 # an output that fails leaves none of the others behind
 expect_fail --rc 1 "write failed" "$PSIM" --quiet --out "$tmp/ok.txt" --trace /dev/full "$tmp/s.in"
 [[ ! -e $tmp/ok.txt ]] || fail "a failed run left --out behind"
-ls "$tmp" | grep -q '\.tmp' && fail "a failed run left a temporary file"
+ls -A "$tmp" | grep -q '\.tmp\|^\.psim-' && fail "a failed run left a temporary file"
 
 # write errors on standard output are reported
 expect_fail --rc 1 "write failed" sh -c '"$0" --quiet --out - "$1" >/dev/full' "$PSIM" "$tmp/s.in"
@@ -37,13 +37,10 @@ set -m
 "$PSIM" --quiet --out "$tmp/int.txt" --trace "$tmp/int.trace" "$tmp/long.in" &
 pid=$!
 set +m
-for _ in $(seq 100); do
-    ls "$tmp" | grep -q 'int.trace.tmp' && break
-    sleep 0.05
-done
+outputs_open "$pid" "$tmp" 2
 kill -INT "$pid"
 wait "$pid" && fail "an interrupted run exited 0"
-ls "$tmp" | grep -q 'int\.' && fail "an interrupted run left files: $(ls "$tmp")"
+ls -A "$tmp" | grep -q 'int\.\|^\.psim-' && fail "an interrupted run left files: $(ls -A "$tmp")"
 
 # option errors name the option, also inside a cluster of short options
 expect_fail --rc 2 "unknown option '-Z'" "$PSIM" --threads 2 -Zq "$tmp/s.in"
