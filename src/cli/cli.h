@@ -33,6 +33,14 @@ void cli_set_argv(char **argv);
 void cli_choose_wait_policy(int threads);
 const char *cli_wait_note(void);
 
+/* Threads (threads.c): the count asked, capped by the OpenMP thread limit
+ * (OMP_THREAD_LIMIT; cli_threads_note then says so, else NULL); and, under
+ * a limit on processes or address space (ulimit -u, -v), whether that many
+ * threads can start at once: 0, or -1 after one error line. */
+int cli_threads_cap(int asked);
+const char *cli_threads_note(void);
+int cli_threads_startable(int threads);
+
 /* Strict number parsing for option values: print one error line and
  * return -1 when text is not a number in [lo, hi]. */
 int cli_long(const char *opt, const char *text, long lo, long hi, long *out);

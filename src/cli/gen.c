@@ -109,7 +109,7 @@ int cli_gen(int argc, char **argv)
     psim_scene sc;
     if (psim_scene_generate(&p, &sc, &err)) {
         fprintf(stderr, "psim gen: %s\n", err.msg);
-        return 1;
+        return err.usage ? 2 : 1;   /* options that ask the impossible are usage */
     }
     outfile o;
     int rc = 1;

@@ -25,6 +25,7 @@ int cli_pin_setup(cli_pin *p, int threads, int quiet)
     }
     if (p->plan.threads <= 0)
         p->plan.threads = omp_get_max_threads();
+    p->plan.threads = cli_threads_cap(p->plan.threads);
     if (p->plan.notice[0] && !quiet)
         fprintf(stderr, "psim: notice: %s\n", p->plan.notice);
     if (p->dry_run)

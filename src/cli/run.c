@@ -513,6 +513,8 @@ static void print_summary(FILE *f, const run_opts *o, const psim_scene *sc,
     psim_print_skips(f, s);
     if (cli_wait_note())
         fprintf(f, "  OpenMP wait policy %s\n", cli_wait_note());
+    if (cli_threads_note())
+        fprintf(f, "  threads: %s\n", cli_threads_note());
     if (st->grid_cells > 0 && st->tiles_cut)
         fprintf(f, "  grid %d x %d cells of side %g, %d x %d tiles cut where the work was "
                    "(%d tiles)\n",
@@ -739,8 +741,15 @@ int cli_run(int argc, char **argv)
     psim_sim *s = NULL;
     rc = 1;
     omp_set_dynamic(0);
-    if (!o.pin.dry_run)
-        cli_choose_wait_policy(o.threads ? (int)o.threads : omp_get_max_threads());
+    const int asked = o.threads ? (int)o.threads : omp_get_max_threads(),
+              threads = cli_threads_cap(asked);
+    if (threads < asked)
+        o.threads = threads;   /* the runtime would start no more */
+    if (!o.pin.dry_run) {
+        cli_choose_wait_policy(threads);
+        if (cli_threads_startable(threads))
+            goto done;
+    }
     if (o.pin.dry_run) {
         if (cli_pin_setup(&o.pin, (int)o.threads, o.quiet) == 0) {
             psim_pin_plan_print(stdout, o.pin.topo, &o.pin.plan);

@@ -37,9 +37,15 @@ int cli_double(const char *opt, const char *text, double lo, double hi,
                double *out)
 {
     char *end;
+    errno = 0;
     double v = strtod(text, &end);
     if (end == text || *end || !isfinite(v)) {
         fprintf(stderr, "psim: %s: expected a finite number, got '%s'\n", opt, text);
+        return -1;
+    }
+    if (errno == ERANGE && v == 0) {   /* below the smallest double: read as 0 */
+        fprintf(stderr, "psim: %s: '%s' is too small for a double (below 4.9e-324)\n", opt,
+                text);
         return -1;
     }
     if (v < lo || v > hi) {
