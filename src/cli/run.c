@@ -404,7 +404,8 @@ static int load_scene(run_opts *o, psim_scene *sc, psim_error *err)
         snprintf(o->label, sizeof o->label, "n %ld, seed %llu", o->n, o->seed);
         return psim_generate_scene(o->model, o->n, o->seed, sc, err);
     }
-    snprintf(o->label, sizeof o->label, "%s", o->scene ? o->scene : "default scene");
+    /* the name as messages and the summary show it: control bytes escaped */
+    cli_escape(o->label, sizeof o->label, o->scene ? o->scene : "default scene");
     if (!o->scene)
         return default_scene(sc, err);
     int rc;
@@ -420,6 +421,13 @@ static int load_scene(run_opts *o, psim_scene *sc, psim_error *err)
     return rc;
 }
 
+/* Whether the scene is a regular file, which a second run can read again
+ * (a pipe, even one named /dev/stdin or /dev/fd/N, cannot be). */
+static int rereadable(const run_opts *o)
+{
+    return o->scene_st_ok && S_ISREG(o->scene_st.st_mode) && strcmp(o->scene, "-") != 0;
+}
+
 /* The scene again, for a second run (first_nonfinite) after its arrays
  * were freed: made again, or read again from a file that has not changed
  * since (the same device, inode, size and modification time); -1 when it
@@ -433,7 +441,7 @@ static int reload_scene(const run_opts *o, psim_scene *sc)
         rc = psim_generate_scene(o->model, o->n, o->seed, sc, &e);
     else if (!o->scene)
         rc = default_scene(sc, &e);
-    else if (!o->scene_st_ok || !strcmp(o->scene, "-") || stat(o->scene, &st) ||
+    else if (!rereadable(o) || stat(o->scene, &st) ||
              st.st_dev != o->scene_st.st_dev || st.st_ino != o->scene_st.st_ino ||
              st.st_size != o->scene_st.st_size ||
              st.st_mtim.tv_sec != o->scene_st.st_mtim.tv_sec ||
@@ -615,33 +623,47 @@ static int checkpoint(const run_opts *o, psim_sim *s, run_state *rs, long k, lon
     return 0;
 }
 
+/* err, naming the step a state was seen not finite at, when no second run
+ * could find the first: that step is only the latest it can be. */
+static void uncertain_step(psim_error *err, long checked)
+{
+    char was[sizeof err->msg];
+    memcpy(was, err->msg, sizeof was);
+    psim_error_set(err, "%s (the first bad step lies after step %ld, where the state was "
+                        "finite; the scene could not be read again to find it)",
+                   was, checked);
+}
+
 /* The first step whose state is not finite, found again: a state that
  * overflowed is seen at step `seen`, and the last check before it was at
  * step `checked` (finite).  The run is deterministic, so a second engine
  * from the same scene and configuration steps to `checked` and checks
  * every step after it (this costs at most the steps run so far, and only
  * when a run fails); the scene's arrays having been freed, it makes or
- * reads the scene again.  err: the first bad step and disk, or unchanged
- * when the second run cannot say. */
+ * reads the scene again.  err: the first bad step and disk; or, when the
+ * second run cannot say (the scene file changed since, or no memory), the
+ * step it was seen at, said to be no more than that. */
 static void first_nonfinite(const run_opts *o, const psim_scene *sc, const psim_config *cfg,
                             long checked, long seen, psim_error *err)
 {
     psim_error e2 = {{0}, 0};
     psim_scene again = {0};
-    if (!sc->x) {
-        if (reload_scene(o, &again))
-            return;
-        sc = &again;
-    }
-    psim_sim *s2 = psim_create(sc, cfg, &e2);
+    if (!sc->x)
+        sc = reload_scene(o, &again) ? NULL : &again;
+    psim_sim *s2 = sc ? psim_create(sc, cfg, &e2) : NULL;
+    int looked = s2 != NULL;   /* at every step before `seen` */
     for (long k = s2 ? psim_step_index(s2) + 1 : seen; k < seen; k++) {
-        if (psim_step(s2, &e2))
+        if (psim_step(s2, &e2)) {
+            looked = 0;
             break;
+        }
         if (k > checked && psim_state_finite(s2, &e2)) {
             *err = e2;
             break;
         }
     }
+    if (!looked)
+        uncertain_step(err, checked);
     psim_destroy(s2);
     psim_scene_free(&again);
 }
@@ -787,10 +809,11 @@ int cli_run(int argc, char **argv)
     cfg.options = o.options;
     cfg.steps = steps;
     /* The engine takes the scene's particles (freed once its store holds
-     * them), except from standard input, which cannot be read twice: that
-     * scene is kept whole for a second run that looks for the first
-     * non-finite step; any other is made or read again for it. */
-    const int keep_scene = o.scene && strcmp(o.scene, "-") == 0;
+     * them), except from what cannot be read twice (standard input, a
+     * pipe, a FIFO, a device): that scene is kept whole for a second run
+     * that looks for the first non-finite step; any other is made or read
+     * again for it. */
+    const int keep_scene = o.scene && !rereadable(&o);
     s = keep_scene ? psim_create(&sc, &cfg, &err) : psim_create_taking(&sc, &cfg, &err);
     if (!s) {
         fprintf(stderr, "psim: %s\n", err.msg);

@@ -485,7 +485,8 @@ static void io_show(void *ctx, int writing, long long done, long long total)
 void cli_io_begin(const char *verb, const char *name, int quiet)
 {
     progress_init(&io.pb, 0, quiet);
-    snprintf(io.what, sizeof io.what, "%s %s", verb, name);
+    int n = snprintf(io.what, sizeof io.what, "%s ", verb);
+    cli_escape(io.what + n, sizeof io.what - (size_t)n, name);   /* shown on a terminal */
     io.on = 1;
     io.width = 0;
     psim_set_io_progress(io_show, NULL);
