@@ -28,7 +28,7 @@ int main(int argc, char **argv)
     cli_set_argv(argv);
     int rc = command(argc, argv);
     if ((fflush(stdout) != 0 || ferror(stdout)) && rc == 0) {
-        fprintf(stderr, "psim: <stdout>: write failed: %s\n", strerror(errno ? errno : EIO));
+        cli_err("psim: <stdout>: write failed: %s", strerror(errno ? errno : EIO));
         rc = 1;
     }
     return rc;

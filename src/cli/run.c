@@ -185,14 +185,14 @@ static int check_outputs(const run_opts *o)
             int twice = !strcmp(files[a], "-") && !strcmp(files[b], "-");
             if (twice || (!is_stream(files[a]) && same_file(files[a], files[b])) ||
                 (a_ok && regular_file(files[b], 1, &fb) && same_inode(&fa, &fb))) {
-                fprintf(stderr, "psim: '%s' is named for two outputs %s\n", files[a], names);
+                cli_err("psim: '%s' is named for two outputs %s", files[a], names);
                 return 2;
             }
         }
         if ((o->scene && strcmp(o->scene, "-") && !is_stream(files[a]) &&
              same_file(files[a], o->scene)) ||
             (in_ok && a_ok && same_inode(&fa, &in))) {
-            fprintf(stderr, "psim: '%s' is the scene: an output must not overwrite it\n",
+            cli_err("psim: '%s' is the scene: an output must not overwrite it",
                     files[a]);
             return 2;
         }
@@ -215,7 +215,7 @@ static int cli_seed(const char *opt, const char *text, unsigned long long *out)
     errno = 0;
     unsigned long long v = strtoull(text, &end, 10);
     if (!*text || *end || errno || text[0] == '-') {
-        fprintf(stderr, "psim: %s: '%s' is not a whole number in [0, 2^64)\n", opt, text);
+        cli_err("psim: %s: '%s' is not a whole number in [0, 2^64)", opt, text);
         return -1;
     }
     *out = v;
@@ -226,13 +226,13 @@ static int cli_seed(const char *opt, const char *text, unsigned long long *out)
 static int add_option(run_opts *o, const char *kv)
 {
     if (!strchr(kv, '=') || strchr(kv, ',')) {
-        fprintf(stderr, "psim: --option: expected NAME=VALUE, got '%s'\n", kv);
+        cli_err("psim: --option: expected NAME=VALUE, got '%s'", kv);
         return -1;
     }
     char *joined;
     if (asprintf(&joined, "%s%s%s", o->options ? o->options : "", o->options ? "," : "",
                  kv) < 0) {
-        fprintf(stderr, "psim: out of memory\n");
+        cli_err("psim: out of memory");
         return -1;
     }
     free(o->options);
@@ -247,14 +247,14 @@ static int resolve_s(run_opts *o)
         return 0;
     if (o->n >= 0) {
         if (o->seed_given) {
-            fprintf(stderr, "psim: -s and --seed both give the seed\n");
+            cli_err("psim: -s and --seed both give the seed");
             return -1;
         }
         o->seed_given = 1;
         return cli_seed("-s", o->s_text, &o->seed);
     }
     if (o->steps >= 0) {
-        fprintf(stderr, "psim: -s and --steps both give the steps\n");
+        cli_err("psim: -s and --steps both give the steps");
         return -1;
     }
     return cli_long("-s", o->s_text, 0, PSIM_MAX_STEPS, &o->steps);
@@ -297,7 +297,7 @@ static int parse_run(int argc, char **argv, run_opts *o)
         switch (c) {
         case 'm':
             if (!known_model(optarg)) {
-                fprintf(stderr, "psim: --model: unknown model '%s' (psim models lists them)\n", optarg);
+                cli_err("psim: --model: unknown model '%s' (psim models lists them)", optarg);
                 return 2;
             }
             o->model = optarg;
@@ -326,7 +326,7 @@ static int parse_run(int argc, char **argv, run_opts *o)
         case 'L':
             if (cli_long("--tile", optarg, 1, 1 << 20, &o->tile)) return 2;
             if (o->tile & (o->tile - 1)) {
-                fprintf(stderr, "psim: --tile: %ld is not a power of two\n", o->tile);
+                cli_err("psim: --tile: %ld is not a power of two", o->tile);
                 return 2;
             }
             break;
@@ -345,36 +345,36 @@ static int parse_run(int argc, char **argv, run_opts *o)
     if (resolve_s(o))
         return 2;
     if (o->dump_every && !o->dump) {
-        fprintf(stderr, "psim: --dump-every needs --dump FILE\n");
+        cli_err("psim: --dump-every needs --dump FILE");
         return 2;
     }
     if (!o->dump_every)
         o->dump_every = 1;
     if (o->restart_every && (!o->restart || !strcmp(o->restart, "-"))) {
-        fprintf(stderr, "psim: --restart-every needs --restart FILE (a file: each checkpoint "
-                        "replaces the last)\n");
+        cli_err("psim: --restart-every needs --restart FILE (a file: each checkpoint "
+                        "replaces the last)");
         return 2;
     }
     if (o->thermo_file && !o->thermo)
         o->thermo = LONG_MAX;   /* as LAMMPS' thermo 0: the first and last steps */
     if (o->quiet && o->report) {
-        fprintf(stderr, "psim: -q prints nothing and --report prints the profile: give one of them\n");
+        cli_err("psim: -q prints nothing and --report prints the profile: give one of them");
         return 2;
     }
     int rest = argc - optind;
     if (rest > 2) {
-        fprintf(stderr, "psim: too many arguments: '%s' (usage: psim [OPTIONS] [SCENE [THREADS]])\n",
+        cli_err("psim: too many arguments: '%s' (usage: psim [OPTIONS] [SCENE [THREADS]])",
                 argv[optind + 2]);
         return 2;
     }
     if (rest >= 1)
         o->scene = argv[optind];
     if (o->scene && o->n >= 0) {
-        fprintf(stderr, "psim: -n makes the scene: give -n or SCENE '%s', not both\n", o->scene);
+        cli_err("psim: -n makes the scene: give -n or SCENE '%s', not both", o->scene);
         return 2;
     }
     if (o->seed_given && o->n < 0) {
-        fprintf(stderr, "psim: --seed needs -n (the seed of the model's own initial state)\n");
+        cli_err("psim: --seed needs -n (the seed of the model's own initial state)");
         return 2;
     }
     if (rest == 2) {
@@ -382,7 +382,7 @@ static int parse_run(int argc, char **argv, run_opts *o)
         if (cli_long("THREADS", argv[optind + 1], 1, CLI_MAX_THREADS, &t))
             return 2;
         if (o->threads && o->threads != t) {
-            fprintf(stderr, "psim: --threads %ld and THREADS %ld disagree\n", o->threads, t);
+            cli_err("psim: --threads %ld and THREADS %ld disagree", o->threads, t);
             return 2;
         }
         o->threads = t;
@@ -784,12 +784,12 @@ int cli_run(int argc, char **argv)
         omp_set_num_threads((int)o.threads);
     double t_read = psim_now();
     if (load_scene(&o, &sc, &err)) {
-        fprintf(stderr, "psim: %s\n", err.msg);
+        cli_err("psim: %s", err.msg);
         rc = err.usage ? 2 : 1;
         goto done;
     }
     if (sc.restart.present && !known_model(sc.restart.model)) {
-        fprintf(stderr, "psim: %s:1: restart header: unknown model '%s' (psim models lists them)\n",
+        cli_err("psim: %s:1: restart header: unknown model '%s' (psim models lists them)",
                 sc.source ? sc.source : "<stdin>", sc.restart.model);
         goto done;
     }
@@ -816,7 +816,7 @@ int cli_run(int argc, char **argv)
     const int keep_scene = o.scene && !rereadable(&o);
     s = keep_scene ? psim_create(&sc, &cfg, &err) : psim_create_taking(&sc, &cfg, &err);
     if (!s) {
-        fprintf(stderr, "psim: %s\n", err.msg);
+        cli_err("psim: %s", err.msg);
         rc = err.usage ? 2 : 1;
         goto done;
     }
@@ -831,7 +831,7 @@ int cli_run(int argc, char **argv)
         goto done;
     double t0 = psim_now();
     if (simulate(&o, s, &sc, &cfg, steps, &rs, &err)) {
-        fprintf(stderr, "psim: %s: %s\n", o.label, err.msg);
+        cli_err("psim: %s: %s", o.label, err.msg);
         goto done;
     }
     /* the steps' time, without the states written between them (the
@@ -841,17 +841,17 @@ int cli_run(int argc, char **argv)
     const long last = psim_step_index(s);
     if (rs.out.f && rs.style.final && write_out(&o, s, &rs.out, last, 1)) {
         set_write_failed(&err, rs.out.name);
-        fprintf(stderr, "psim: %s\n", err.msg);
+        cli_err("psim: %s", err.msg);
         goto done;
     }
     if (rs.final.f && write_trace(&o, s, &rs.final, last)) {
         set_write_failed(&err, rs.final.name);
-        fprintf(stderr, "psim: %s\n", err.msg);
+        cli_err("psim: %s", err.msg);
         goto done;
     }
     if (rs.restart.f && write_restart(&o, s, &rs.restart, steps)) {
         set_write_failed(&err, rs.restart.name);
-        fprintf(stderr, "psim: %s\n", err.msg);
+        cli_err("psim: %s", err.msg);
         goto done;
     }
     if ((o.report || o.stats) && !o.pin.topo)
@@ -907,7 +907,7 @@ int cli_models(int argc, char **argv)
         return 0;
     }
     if (argc > 1) {
-        fprintf(stderr, "psim models: unexpected argument '%s'\n", argv[1]);
+        cli_err("psim models: unexpected argument '%s'", argv[1]);
         return 2;
     }
     for (int k = 0; k < psim_model_count(); k++) {

@@ -96,7 +96,7 @@ int cli_threads_startable(int threads)
     if (as.rlim_cur != RLIM_INFINITY)
         snprintf(p, sizeof lim - (size_t)(p - lim), "; address space limited to %llu kB "
                  "(ulimit -v)", (unsigned long long)(as.rlim_cur / 1024));
-    fprintf(stderr, "psim: cannot start %d threads (%d started): %s%s\n", threads, started,
+    cli_err("psim: cannot start %d threads (%d started): %s%s", threads, started,
             strerror(err), lim);
     return -1;
 }

@@ -22,11 +22,11 @@ int cli_long(const char *opt, const char *text, long lo, long hi, long *out)
     errno = 0;
     long v = strtol(text, &end, 10);
     if (end == text || *end || errno == ERANGE) {
-        fprintf(stderr, "psim: %s: expected an integer, got '%s'\n", opt, text);
+        cli_err("psim: %s: expected an integer, got '%s'", opt, text);
         return -1;
     }
     if (v < lo || v > hi) {
-        fprintf(stderr, "psim: %s: %ld is out of range %ld..%ld\n", opt, v, lo, hi);
+        cli_err("psim: %s: %ld is out of range %ld..%ld", opt, v, lo, hi);
         return -1;
     }
     *out = v;
@@ -40,16 +40,16 @@ int cli_double(const char *opt, const char *text, double lo, double hi,
     errno = 0;
     double v = strtod(text, &end);
     if (end == text || *end || !isfinite(v)) {
-        fprintf(stderr, "psim: %s: expected a finite number, got '%s'\n", opt, text);
+        cli_err("psim: %s: expected a finite number, got '%s'", opt, text);
         return -1;
     }
     if (errno == ERANGE && v == 0) {   /* below the smallest double: read as 0 */
-        fprintf(stderr, "psim: %s: '%s' is too small for a double (below 4.9e-324)\n", opt,
+        cli_err("psim: %s: '%s' is too small for a double (below 4.9e-324)", opt,
                 text);
         return -1;
     }
     if (v < lo || v > hi) {
-        fprintf(stderr, "psim: %s: %g is out of range %g..%g\n", opt, v, lo, hi);
+        cli_err("psim: %s: %g is out of range %g..%g", opt, v, lo, hi);
         return -1;
     }
     *out = v;
@@ -63,7 +63,7 @@ int cli_env_threads(void)
         return 0;
     size_t len = strcspn(v, ",");
     if (len > 20) {
-        fprintf(stderr, "psim: OMP_NUM_THREADS: expected an integer, got '%.40s'\n", v);
+        cli_err("psim: OMP_NUM_THREADS: expected an integer, got '%.40s'", v);
         return -1;
     }
     char first[24];
@@ -184,7 +184,7 @@ static int open_direct(outfile *o, const char *path)
 {
     o->f = fopen(path, "w");
     if (!o->f) {
-        fprintf(stderr, "psim: %s: cannot write: %s\n", path, strerror(errno));
+        cli_err("psim: %s: cannot write: %s", path, strerror(errno));
         outfile_abort(o);
         return -1;
     }
@@ -203,10 +203,10 @@ void cli_bad_option(const char *cmd, char **argv, int c)
         snprintf(name, sizeof name, "-%c", optopt);
     const char *sp = cmd ? " " : "", *sub = cmd ? cmd : "";
     if (c == ':')
-        fprintf(stderr, "psim%s%s: option '%s' needs a value (see psim%s%s --help)\n", sp,
+        cli_err("psim%s%s: option '%s' needs a value (see psim%s%s --help)", sp,
                 sub, name, sp, sub);
     else
-        fprintf(stderr, "psim%s%s: unknown option '%s' (see psim%s%s --help)\n", sp, sub,
+        cli_err("psim%s%s: unknown option '%s' (see psim%s%s --help)", sp, sub,
                 name, sp, sub);
 }
 
@@ -265,7 +265,7 @@ int outfile_open(outfile *o, const char *path)
     memset(o, 0, sizeof *o);
     o->name = path;
     if (!*path) {
-        fprintf(stderr, "psim: an output file name is empty\n");
+        cli_err("psim: an output file name is empty");
         return -1;
     }
     if (strcmp(path, "-") == 0) {
@@ -281,7 +281,7 @@ int outfile_open(outfile *o, const char *path)
      * any): a file without write permission, for this user or for anyone,
      * is kept, as a shell's '>' would keep it. */
     if (exists && (access(path, W_OK) != 0 || !(st.st_mode & 0222))) {
-        fprintf(stderr, "psim: %s: cannot write: the file is read-only\n", path);
+        cli_err("psim: %s: cannot write: the file is read-only", path);
         return -1;
     }
     /* a symbolic link is followed, even to a file not made yet: the file
@@ -290,14 +290,14 @@ int outfile_open(outfile *o, const char *path)
     size_t len = o->path ? strlen(o->path) + 16 : 0;
     o->tmp = o->path ? malloc(len) : NULL;
     if (!o->tmp) {
-        fprintf(stderr, "psim: %s: cannot write: %s\n", path, strerror(errno ? errno : ENOMEM));
+        cli_err("psim: %s: cannot write: %s", path, strerror(errno ? errno : ENOMEM));
         outfile_abort(o);
         return -1;
     }
     snprintf(o->tmp, len, "%s.tmpXXXXXX", o->path);
     int fd = mkstemp(o->tmp);
     if (fd < 0) {
-        fprintf(stderr, "psim: %s: cannot write: %s\n", path, strerror(errno));
+        cli_err("psim: %s: cannot write: %s", path, strerror(errno));
         free(o->tmp);
         o->tmp = NULL;
         outfile_abort(o);
@@ -309,7 +309,7 @@ int outfile_open(outfile *o, const char *path)
     fchmod(fd, exists ? (st.st_mode & 07777) : (0666 & ~mask));
     o->f = fdopen(fd, "w");
     if (!o->f) {
-        fprintf(stderr, "psim: %s: cannot write: %s\n", path, strerror(errno));
+        cli_err("psim: %s: cannot write: %s", path, strerror(errno));
         close(fd);
         outfile_abort(o);
         return -1;
@@ -330,7 +330,7 @@ static int outfile_close(outfile *o)
     }
     o->f = NULL;
     if (bad)
-        fprintf(stderr, "psim: %s: write failed: %s\n", o->name, strerror(err ? err : EIO));
+        cli_err("psim: %s: write failed: %s", o->name, strerror(err ? err : EIO));
     return bad ? -1 : 0;
 }
 
@@ -342,7 +342,7 @@ int outfile_commit_all(outfile *const *list, int n)
     for (int k = 0; k < n && !bad; k++) {
         outfile *o = list[k];
         if (o->tmp && rename(o->tmp, o->path) != 0) {
-            fprintf(stderr, "psim: %s: write failed: %s\n", o->name, strerror(errno));
+            cli_err("psim: %s: write failed: %s", o->name, strerror(errno));
             bad = 1;
             break;
         }
@@ -418,7 +418,7 @@ void progress_update(progress *p, long done)
         return;
     double eta = done ? (now - p->start) * (double)(p->total - done) / (double)done : 0;
     if (!p->tty) {
-        fprintf(stderr, "psim: step %ld of %ld (%.0f%%), %.0f s so far, about %.0f s left\n",
+        cli_err("psim: step %ld of %ld (%.0f%%), %.0f s so far, about %.0f s left",
                 done, p->total, p->total ? 100.0 * (double)done / (double)p->total : 100.0,
                 now - p->start, eta);
         return;
@@ -468,7 +468,7 @@ static void io_show(void *ctx, int writing, long long done, long long total)
     if (total > 0)
         snprintf(left, sizeof left, p->tty ? ", %.1f s left" : ", about %.0f s left", eta);
     if (!p->tty) {
-        fprintf(stderr, "psim: %s: %s (%.0f%%), %.0f s so far%s\n", io.what, count,
+        cli_err("psim: %s: %s (%.0f%%), %.0f s so far%s", io.what, count,
                 100 * frac, now - p->start, left);
         return;
     }

@@ -51,8 +51,8 @@ expect_fail --rc 2 "unknown option '--x\\ny'" "$PSIM" --"x"$'\n'"y"
 expect_fail --rc 1 'caf'$'\xc3\xa9''-\xc2\x9b-\xff.in' "$PSIM" -q "$tmp/caf"$'\xc3\xa9'"-"$'\xc2\x9b'"-"$'\xff'".in"
 
 # --- control bytes inside a scene: the quoted input is escaped ----------------
-printf '2\n100\n1\n3\n0 1 1 0 0\n1 2 2 0 \x1b[31m\n' >"$tmp/bytes.in"
-expect_fail --rc 1 "bytes.in:6:" "$PSIM" -q "$tmp/bytes.in"
+printf '\x1b[31m\n100\n1\n3\n' >"$tmp/bytes.in"
+expect_fail --rc 1 "bytes.in:1:" "$PSIM" -q "$tmp/bytes.in"
 no_control "$tmp/.ef.err" "bytes inside a scene"
 [[ $FAIL_LINE == *'\x1b'* ]] || fail "the scene's ESC byte is not shown escaped: $FAIL_LINE"
 
