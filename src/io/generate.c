@@ -60,7 +60,6 @@ static int place_nonoverlap(const psim_gen_params *p, psim_scene *sc,
                     "side %g (stuck at disk %ld; random placement jams near density "
                     "0.54): use --place lattice or a lower density",
                     p->n, p->r, p->L, i);
-                err->usage = 1;   /* what the options ask cannot be made */
                 free(head);
                 free(next);
                 return -1;
