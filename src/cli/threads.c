@@ -46,10 +46,27 @@ static void *probe_wait(void *unused)
     return NULL;
 }
 
-/* Whether a limit that can stop threads from starting is set. */
-static int limits_set(struct rlimit *nproc, struct rlimit *as)
+/* The threads of every process on the machine (/proc/loadavg's fourth
+ * field, "runnable/total"); -1 if unknown. */
+static long tasks_now(void)
 {
-    int a = getrlimit(RLIMIT_NPROC, nproc) == 0 && nproc->rlim_cur != RLIM_INFINITY;
+    FILE *f = fopen("/proc/loadavg", "r");
+    long running, total = -1;
+    if (f && fscanf(f, "%*s %*s %*s %ld/%ld", &running, &total) != 2)
+        total = -1;
+    if (f)
+        fclose(f);
+    return total;
+}
+
+/* Whether a limit that can stop `threads` threads from starting is set:
+ * on address space, or on processes (ulimit -u, which counts the user's
+ * threads) below the machine's threads now and the run's. */
+static int limits_set(int threads, struct rlimit *nproc, struct rlimit *as)
+{
+    long tasks = -1;
+    int a = getrlimit(RLIMIT_NPROC, nproc) == 0 && nproc->rlim_cur != RLIM_INFINITY &&
+            ((tasks = tasks_now()) < 0 || nproc->rlim_cur < (rlim_t)(tasks + threads));
     int b = getrlimit(RLIMIT_AS, as) == 0 && as->rlim_cur != RLIM_INFINITY;
     if (!a)
         nproc->rlim_cur = RLIM_INFINITY;
@@ -84,7 +101,7 @@ static int start_all(int threads, int *started)
 int cli_threads_startable(int threads)
 {
     struct rlimit nproc, as;
-    if (threads <= 1 || !limits_set(&nproc, &as))
+    if (threads <= 1 || !limits_set(threads, &nproc, &as))
         return 0;
     int started = 0, err = start_all(threads, &started);
     if (!err)
