@@ -19,6 +19,9 @@
 
 #include "cli.h"
 
+/* Before the sanitizers' runtimes start too: not instrumented. */
+#define UNINSTRUMENTED __attribute__((no_sanitize("address", "thread", "undefined")))
+
 /* What psim needs mapped to start and run a small scene, beyond what the
  * program and its libraries already map when this runs (measured: the
  * allocator's first arena, the OpenMP runtime's structures, one thread's
@@ -26,7 +29,7 @@
 #define START_HEADROOM_KB 16384L
 
 /* A long as decimal text at p; returns the end. */
-static char *put_long(char *p, long v)
+UNINSTRUMENTED static char *put_long(char *p, long v)
 {
     char digits[24];
     int n = 0;
@@ -40,7 +43,7 @@ static char *put_long(char *p, long v)
 
 /* The kilobytes of address space mapped now (/proc/self/statm's first
  * field, in pages); -1 if unknown. */
-static long mapped_kb(void)
+UNINSTRUMENTED static long mapped_kb(void)
 {
     char buf[128];
     int fd = open("/proc/self/statm", O_RDONLY | O_CLOEXEC);
@@ -57,7 +60,7 @@ static long mapped_kb(void)
     return page > 0 ? pages * (page / 1024) : -1;
 }
 
-static void refuse(long limit_kb, long need_kb)
+UNINSTRUMENTED static void refuse(long limit_kb, long need_kb)
 {
     char line[256], *p = line;
     static const char a[] = "psim: the address-space limit (ulimit -v) of ",
@@ -79,15 +82,14 @@ static void refuse(long limit_kb, long need_kb)
 const char *malloc_conf;
 #endif
 
-static void allocator_without_caches(void)
+UNINSTRUMENTED static void allocator_without_caches(void)
 {
 #ifdef PSIM_USE_JEMALLOC
     malloc_conf = "tcache:false";
 #endif
 }
 
-__attribute__((no_sanitize_address)) static void start_limits(int argc, char **argv,
-                                                             char **envp)
+UNINSTRUMENTED static void start_limits(int argc, char **argv, char **envp)
 {
     (void)argc, (void)argv, (void)envp;
     struct rlimit as;
