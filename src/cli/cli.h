@@ -33,6 +33,26 @@ void cli_set_argv(char **argv);
 void cli_choose_wait_policy(int threads);
 const char *cli_wait_note(void);
 
+/* Threads (threads.c): the count asked, capped by the OpenMP thread limit
+ * (OMP_THREAD_LIMIT; cli_threads_note then says so, else NULL); and, under
+ * a limit on processes or address space (ulimit -u, -v), whether that many
+ * threads can start at once: 0, or -1 after one error line. */
+int cli_threads_cap(int asked);
+const char *cli_threads_note(void);
+int cli_threads_startable(int threads);
+
+/* Messages (say.c).  cli_err prints one line on stderr, "psim: ...",
+ * from a printf format without its newline, with every control byte it
+ * holds (from a file name, an argument, an input's bytes) escaped as \n,
+ * \t, \r or \xHH, and C1 controls and invalid UTF-8 bytes as \xHH: a
+ * message is always one line and cannot drive the terminal.  cli_escape
+ * writes src so escaped into dst (cap bytes with its NUL; cut short if
+ * it does not fit) and returns its length; cli_shown returns a malloc'd
+ * escaped copy (NULL without memory). */
+void cli_err(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+size_t cli_escape(char *dst, size_t cap, const char *src);
+char *cli_shown(const char *name);
+
 /* Strict number parsing for option values: print one error line and
  * return -1 when text is not a number in [lo, hi]. */
 int cli_long(const char *opt, const char *text, long lo, long hi, long *out);

@@ -41,7 +41,7 @@ static int parse_place(const char *s, psim_place *p)
     else if (!strcmp(s, "lattice"))
         *p = PSIM_PLACE_LATTICE;
     else {
-        fprintf(stderr, "psim gen: --place: unknown placement '%s' (uniform, nonoverlap, lattice)\n", s);
+        cli_err("psim gen: --place: unknown placement '%s' (uniform, nonoverlap, lattice)", s);
         return -1;
     }
     return 0;
@@ -87,29 +87,29 @@ int cli_gen(int argc, char **argv)
             return 2;
     }
     if (optind < argc) {
-        fprintf(stderr, "psim gen: unexpected argument '%s' (see psim gen --help)\n", argv[optind]);
+        cli_err("psim gen: unexpected argument '%s' (see psim gen --help)", argv[optind]);
         return 2;
     }
     if (p.vmin > p.vmax) {
-        fprintf(stderr, "psim gen: --vmin %g is above --vmax %g\n", p.vmin, p.vmax);
+        cli_err("psim gen: --vmin %g is above --vmax %g", p.vmin, p.vmax);
         return 2;
     }
     if (density > 0 && p.L > 0) {
-        fprintf(stderr, "psim gen: give --L or --density, not both\n");
+        cli_err("psim gen: give --L or --density, not both");
         return 2;
     }
     if (p.L <= 0)
         p.L = density > 0 ? sqrt((double)p.n * M_PI * p.r * p.r / density) : 100;
     if (seed != floor(seed)) {
-        fprintf(stderr, "psim gen: --seed: expected a whole number, got %g\n", seed);
+        cli_err("psim gen: --seed: expected a whole number, got %g", seed);
         return 2;
     }
     p.seed = (uint64_t)seed;
     psim_error err = {{0}, 0};
     psim_scene sc;
     if (psim_scene_generate(&p, &sc, &err)) {
-        fprintf(stderr, "psim gen: %s\n", err.msg);
-        return 1;
+        cli_err("psim gen: %s", err.msg);
+        return err.usage ? 2 : 1;   /* options that ask the impossible are usage */
     }
     outfile o;
     int rc = 1;
@@ -121,7 +121,7 @@ int cli_gen(int argc, char **argv)
             rc = 0;
     }
     if (rc == 0)
-        fprintf(stderr, "psim gen: %ld disks, L %.17g, r %g, density %.4f\n", sc.n,
+        cli_err("psim gen: %ld disks, L %.17g, r %g, density %.4f", sc.n,
                 sc.L, sc.r, psim_scene_density(&sc));
     psim_scene_free(&sc);
     return rc;

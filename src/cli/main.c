@@ -53,7 +53,7 @@ static int open_std_fds(void)
 int main(int argc, char **argv)
 {
     if (open_std_fds()) {
-        fprintf(stderr, "psim: cannot open /dev/null on a closed standard descriptor\n");
+        cli_err("psim: cannot open /dev/null on a closed standard descriptor");
         return 1;
     }
     if (cli_env_threads())
@@ -61,7 +61,7 @@ int main(int argc, char **argv)
     cli_set_argv(argv);
     int rc = command(argc, argv);
     if ((fflush(stdout) != 0 || ferror(stdout)) && rc == 0) {
-        fprintf(stderr, "psim: <stdout>: write failed: %s\n", strerror(errno ? errno : EIO));
+        cli_err("psim: <stdout>: write failed: %s", strerror(errno ? errno : EIO));
         rc = 1;
     }
     return rc;

@@ -149,7 +149,7 @@ static int open_direct(outfile *o, const char *path)
 {
     o->f = fopen(path, "w");
     if (!o->f) {
-        fprintf(stderr, "psim: %s: cannot write: %s\n", path, strerror(errno));
+        cli_err("psim: %s: cannot write: %s", path, strerror(errno));
         outfile_abort(o);
         return -1;
     }
@@ -192,7 +192,7 @@ int outfile_open(outfile *o, const char *path)
     memset(o, 0, sizeof *o);
     o->name = path;
     if (!*path) {
-        fprintf(stderr, "psim: an output file name is empty\n");
+        cli_err("psim: an output file name is empty");
         return -1;
     }
     if (strcmp(path, "-") == 0) {
@@ -208,7 +208,7 @@ int outfile_open(outfile *o, const char *path)
      * any): a file without write permission, for this user or for anyone,
      * is kept, as a shell's '>' would keep it. */
     if (exists && (access(path, W_OK) != 0 || !(st.st_mode & 0222))) {
-        fprintf(stderr, "psim: %s: cannot write: the file is read-only\n", path);
+        cli_err("psim: %s: cannot write: the file is read-only", path);
         return -1;
     }
     /* the permissions of the file replaced, or those of a new file */
@@ -218,7 +218,7 @@ int outfile_open(outfile *o, const char *path)
     int fd = open_hidden(o, path, exists ? (st.st_mode & 07777) : (0666 & ~mask));
     o->f = fd >= 0 ? fdopen(fd, "w") : NULL;
     if (!o->f) {
-        fprintf(stderr, "psim: %s: cannot write: %s\n", path, strerror(errno ? errno : ENOMEM));
+        cli_err("psim: %s: cannot write: %s", path, strerror(errno ? errno : ENOMEM));
         if (fd >= 0)
             close(fd);
         outfile_abort(o);
@@ -241,7 +241,7 @@ static int outfile_close(outfile *o)
     }
     o->f = NULL;
     if (bad)
-        fprintf(stderr, "psim: %s: write failed: %s\n", o->name, strerror(err ? err : EIO));
+        cli_err("psim: %s: write failed: %s", o->name, strerror(err ? err : EIO));
     return bad ? -1 : 0;
 }
 
@@ -308,7 +308,7 @@ int outfile_commit_all(outfile *const *list, int n)
         bad = outfile_close(list[k]);
     for (int k = 0; k < n && !bad; k++)
         if (publish(list[k]) != 0) {
-            fprintf(stderr, "psim: %s: write failed: %s\n", list[k]->name, strerror(errno));
+            cli_err("psim: %s: write failed: %s", list[k]->name, strerror(errno));
             bad = 1;
         }
     for (int k = 0; k < n; k++)

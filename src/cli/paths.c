@@ -135,7 +135,7 @@ int cli_check_paths(const char *who, const cli_path *in, int nin, const cli_path
     char da[PATH_MAX + 64], db[PATH_MAX + 64];
     int rc = 0;
     if (!pi || !po) {
-        fprintf(stderr, "%s: out of memory\n", who);
+        cli_err("%s: out of memory", who);
         rc = 2;
     }
     for (int k = 0; !rc && k < nin; k++)
@@ -152,14 +152,14 @@ int cli_check_paths(const char *who, const cli_path *in, int nin, const cli_path
             if (out[b].path && same_place(&po[a], out[a].path, &po[b], out[b].path) &&
                 !keeps_nothing(&po[a])) {
                 describe(db, sizeof db, &out[b]);
-                fprintf(stderr, "%s: %s and %s are one %s: it is named for two outputs\n",
+                cli_err("%s: %s and %s are one %s: it is named for two outputs",
                         who, da, db, kind(&po[a]));
                 rc = 2;
             }
         for (int k = 0; !rc && k < nin; k++)
             if (in[k].path && same_place(&po[a], out[a].path, &pi[k], in[k].path) &&
                 may_overwrite(&po[a])) {
-                fprintf(stderr, "%s: %s is the %s: an output must not overwrite it\n", who,
+                cli_err("%s: %s is the %s: an output must not overwrite it", who,
                         da, in[k].opt);
                 rc = 2;
             }

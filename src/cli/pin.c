@@ -20,23 +20,24 @@ int cli_pin_setup(cli_pin *p, int threads, int quiet)
         return 0; /* no topology is loaded for a run that does not pin */
     p->topo = psim_topo_load(p->topology, &err);
     if (!p->topo || psim_pin_plan_make(p->topo, &p->policy, threads, &p->plan, &err)) {
-        fprintf(stderr, "psim: %s\n", err.msg);
+        cli_err("psim: %s", err.msg);
         return -1;
     }
     if (p->plan.threads <= 0)
         p->plan.threads = omp_get_max_threads();
+    p->plan.threads = cli_threads_cap(p->plan.threads);
     if (p->plan.notice[0] && !quiet)
-        fprintf(stderr, "psim: notice: %s\n", p->plan.notice);
+        cli_err("psim: notice: %s", p->plan.notice);
     if (p->dry_run)
         return 0;
     p->observed = calloc((size_t)p->plan.threads, sizeof *p->observed);
     if (!p->observed) {
-        fprintf(stderr, "psim: out of memory\n");
+        cli_err("psim: out of memory");
         return -1;
     }
     if (psim_mem_apply(p->topo, &p->plan, p->mem, &err) ||
         psim_pin_apply(p->topo, &p->plan, p->observed, &err)) {
-        fprintf(stderr, "psim: %s\n", err.msg);
+        cli_err("psim: %s", err.msg);
         return -1;
     }
     return 0;
@@ -97,7 +98,7 @@ int cli_pin_option(cli_pin *p, int opt, const char *arg)
     switch (opt) {
     case CLI_OPT_PIN:
         if (psim_pin_parse(arg, &p->policy, &err)) {
-            fprintf(stderr, "psim: %s\n", err.msg);
+            cli_err("psim: %s", err.msg);
             return -1;
         }
         return 0;
@@ -110,7 +111,7 @@ int cli_pin_option(cli_pin *p, int opt, const char *arg)
         else if (strcmp(arg, "interleave") == 0)
             p->mem = PSIM_MEM_INTERLEAVE;
         else {
-            fprintf(stderr, "psim: --mem: unknown policy '%s' (local, interleave)\n", arg);
+            cli_err("psim: --mem: unknown policy '%s' (local, interleave)", arg);
             return -1;
         }
         return 0;
@@ -169,13 +170,13 @@ int cli_plan(int argc, char **argv)
             cli_bad_option(cmd, argv, c);
             return 2;
         } else {
-            fprintf(stderr, "psim %s: %s is not an option of psim %s (see psim %s --help)\n",
+            cli_err("psim %s: %s is not an option of psim %s (see psim %s --help)",
                     cmd, c == 't' ? "--threads" : "--pin", cmd, cmd);
             return 2;
         }
     }
     if (optind < argc) {
-        fprintf(stderr, "psim %s: unexpected argument '%s'\n", cmd, argv[optind]);
+        cli_err("psim %s: unexpected argument '%s'", cmd, argv[optind]);
         return 2;
     }
     /* what it prints must not overwrite the topology it reads */
@@ -187,20 +188,20 @@ int cli_plan(int argc, char **argv)
     psim_error err = {{0}, 0};
     p.topo = psim_topo_load(p.topology, &err);
     if (!p.topo) {
-        fprintf(stderr, "psim: %s\n", err.msg);
+        cli_err("psim: %s", err.msg);
         return 1;
     }
     int rc = 0;
     if (topo_only) {
         psim_topo_print(stdout, p.topo);
     } else if (psim_pin_plan_make(p.topo, &p.policy, (int)threads, &p.plan, &err)) {
-        fprintf(stderr, "psim: %s\n", err.msg);
+        cli_err("psim: %s", err.msg);
         rc = 1;
     } else {
         if (!p.plan.slot && p.plan.threads <= 0)
             p.plan.threads = omp_get_max_threads();
         if (p.plan.notice[0])
-            fprintf(stderr, "psim: notice: %s\n", p.plan.notice);
+            cli_err("psim: notice: %s", p.plan.notice);
         psim_pin_plan_print(stdout, p.topo, &p.plan);
     }
     cli_pin_free(&p);

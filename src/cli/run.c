@@ -164,7 +164,7 @@ static int cli_seed(const char *opt, const char *text, unsigned long long *out)
     errno = 0;
     unsigned long long v = strtoull(text, &end, 10);
     if (!*text || *end || errno || text[0] == '-') {
-        fprintf(stderr, "psim: %s: '%s' is not a whole number in [0, 2^64)\n", opt, text);
+        cli_err("psim: %s: '%s' is not a whole number in [0, 2^64)", opt, text);
         return -1;
     }
     *out = v;
@@ -175,13 +175,13 @@ static int cli_seed(const char *opt, const char *text, unsigned long long *out)
 static int add_option(run_opts *o, const char *kv)
 {
     if (!strchr(kv, '=') || strchr(kv, ',')) {
-        fprintf(stderr, "psim: --option: expected NAME=VALUE, got '%s'\n", kv);
+        cli_err("psim: --option: expected NAME=VALUE, got '%s'", kv);
         return -1;
     }
     char *joined;
     if (asprintf(&joined, "%s%s%s", o->options ? o->options : "", o->options ? "," : "",
                  kv) < 0) {
-        fprintf(stderr, "psim: out of memory\n");
+        cli_err("psim: out of memory");
         return -1;
     }
     free(o->options);
@@ -196,14 +196,14 @@ static int resolve_s(run_opts *o)
         return 0;
     if (o->n >= 0) {
         if (o->seed_given) {
-            fprintf(stderr, "psim: -s and --seed both give the seed\n");
+            cli_err("psim: -s and --seed both give the seed");
             return -1;
         }
         o->seed_given = 1;
         return cli_seed("-s", o->s_text, &o->seed);
     }
     if (o->steps >= 0) {
-        fprintf(stderr, "psim: -s and --steps both give the steps\n");
+        cli_err("psim: -s and --steps both give the steps");
         return -1;
     }
     return cli_long("-s", o->s_text, 0, PSIM_MAX_STEPS, &o->steps);
@@ -246,7 +246,7 @@ static int parse_run(int argc, char **argv, run_opts *o)
         switch (c) {
         case 'm':
             if (!known_model(optarg)) {
-                fprintf(stderr, "psim: --model: unknown model '%s' (psim models lists them)\n", optarg);
+                cli_err("psim: --model: unknown model '%s' (psim models lists them)", optarg);
                 return 2;
             }
             o->model = optarg;
@@ -275,7 +275,7 @@ static int parse_run(int argc, char **argv, run_opts *o)
         case 'L':
             if (cli_long("--tile", optarg, 1, 1 << 20, &o->tile)) return 2;
             if (o->tile & (o->tile - 1)) {
-                fprintf(stderr, "psim: --tile: %ld is not a power of two\n", o->tile);
+                cli_err("psim: --tile: %ld is not a power of two", o->tile);
                 return 2;
             }
             break;
@@ -294,36 +294,36 @@ static int parse_run(int argc, char **argv, run_opts *o)
     if (resolve_s(o))
         return 2;
     if (o->dump_every && !o->dump) {
-        fprintf(stderr, "psim: --dump-every needs --dump FILE\n");
+        cli_err("psim: --dump-every needs --dump FILE");
         return 2;
     }
     if (!o->dump_every)
         o->dump_every = 1;
     if (o->restart_every && (!o->restart || !strcmp(o->restart, "-"))) {
-        fprintf(stderr, "psim: --restart-every needs --restart FILE (a file: each checkpoint "
-                        "replaces the last)\n");
+        cli_err("psim: --restart-every needs --restart FILE (a file: each checkpoint "
+                        "replaces the last)");
         return 2;
     }
     if (o->thermo_file && !o->thermo)
         o->thermo = LONG_MAX;   /* as LAMMPS' thermo 0: the first and last steps */
     if (o->quiet && o->report) {
-        fprintf(stderr, "psim: -q prints nothing and --report prints the profile: give one of them\n");
+        cli_err("psim: -q prints nothing and --report prints the profile: give one of them");
         return 2;
     }
     int rest = argc - optind;
     if (rest > 2) {
-        fprintf(stderr, "psim: too many arguments: '%s' (usage: psim [OPTIONS] [SCENE [THREADS]])\n",
+        cli_err("psim: too many arguments: '%s' (usage: psim [OPTIONS] [SCENE [THREADS]])",
                 argv[optind + 2]);
         return 2;
     }
     if (rest >= 1)
         o->scene = argv[optind];
     if (o->scene && o->n >= 0) {
-        fprintf(stderr, "psim: -n makes the scene: give -n or SCENE '%s', not both\n", o->scene);
+        cli_err("psim: -n makes the scene: give -n or SCENE '%s', not both", o->scene);
         return 2;
     }
     if (o->seed_given && o->n < 0) {
-        fprintf(stderr, "psim: --seed needs -n (the seed of the model's own initial state)\n");
+        cli_err("psim: --seed needs -n (the seed of the model's own initial state)");
         return 2;
     }
     if (rest == 2) {
@@ -331,7 +331,7 @@ static int parse_run(int argc, char **argv, run_opts *o)
         if (cli_long("THREADS", argv[optind + 1], 1, CLI_MAX_THREADS, &t))
             return 2;
         if (o->threads && o->threads != t) {
-            fprintf(stderr, "psim: --threads %ld and THREADS %ld disagree\n", o->threads, t);
+            cli_err("psim: --threads %ld and THREADS %ld disagree", o->threads, t);
             return 2;
         }
         o->threads = t;
@@ -353,7 +353,8 @@ static int load_scene(run_opts *o, psim_scene *sc, psim_error *err)
         snprintf(o->label, sizeof o->label, "n %ld, seed %llu", o->n, o->seed);
         return psim_generate_scene(o->model, o->n, o->seed, sc, err);
     }
-    snprintf(o->label, sizeof o->label, "%s", o->scene ? o->scene : "default scene");
+    /* the name as messages and the summary show it: control bytes escaped */
+    cli_escape(o->label, sizeof o->label, o->scene ? o->scene : "default scene");
     if (!o->scene)
         return default_scene(sc, err);
     int rc;
@@ -369,6 +370,13 @@ static int load_scene(run_opts *o, psim_scene *sc, psim_error *err)
     return rc;
 }
 
+/* Whether the scene is a regular file, which a second run can read again
+ * (a pipe, even one named /dev/stdin or /dev/fd/N, cannot be). */
+static int rereadable(const run_opts *o)
+{
+    return o->scene_st_ok && S_ISREG(o->scene_st.st_mode) && strcmp(o->scene, "-") != 0;
+}
+
 /* The scene again, for a second run (first_nonfinite) after its arrays
  * were freed: made again, or read again from a file that has not changed
  * since (the same device, inode, size and modification time); -1 when it
@@ -382,7 +390,7 @@ static int reload_scene(const run_opts *o, psim_scene *sc)
         rc = psim_generate_scene(o->model, o->n, o->seed, sc, &e);
     else if (!o->scene)
         rc = default_scene(sc, &e);
-    else if (!o->scene_st_ok || !strcmp(o->scene, "-") || stat(o->scene, &st) ||
+    else if (!rereadable(o) || stat(o->scene, &st) ||
              st.st_dev != o->scene_st.st_dev || st.st_ino != o->scene_st.st_ino ||
              st.st_size != o->scene_st.st_size ||
              st.st_mtim.tv_sec != o->scene_st.st_mtim.tv_sec ||
@@ -462,6 +470,8 @@ static void print_summary(FILE *f, const run_opts *o, const psim_scene *sc,
     psim_print_skips(f, s);
     if (cli_wait_note())
         fprintf(f, "  OpenMP wait policy %s\n", cli_wait_note());
+    if (cli_threads_note())
+        fprintf(f, "  threads: %s\n", cli_threads_note());
     if (st->grid_cells > 0 && st->tiles_cut)
         fprintf(f, "  grid %d x %d cells of side %g, %d x %d tiles cut where the work was "
                    "(%d tiles)\n",
@@ -570,33 +580,47 @@ static int checkpoint(const run_opts *o, psim_sim *s, run_state *rs, long k, lon
     return 0;
 }
 
+/* err, naming the step a state was seen not finite at, when no second run
+ * could find the first: that step is only the latest it can be. */
+static void uncertain_step(psim_error *err, long checked)
+{
+    char was[sizeof err->msg];
+    memcpy(was, err->msg, sizeof was);
+    psim_error_set(err, "%s (the first bad step lies after step %ld, where the state was "
+                        "finite; the scene could not be read again to find it)",
+                   was, checked);
+}
+
 /* The first step whose state is not finite, found again: a state that
  * overflowed is seen at step `seen`, and the last check before it was at
  * step `checked` (finite).  The run is deterministic, so a second engine
  * from the same scene and configuration steps to `checked` and checks
  * every step after it (this costs at most the steps run so far, and only
  * when a run fails); the scene's arrays having been freed, it makes or
- * reads the scene again.  err: the first bad step and disk, or unchanged
- * when the second run cannot say. */
+ * reads the scene again.  err: the first bad step and disk; or, when the
+ * second run cannot say (the scene file changed since, or no memory), the
+ * step it was seen at, said to be no more than that. */
 static void first_nonfinite(const run_opts *o, const psim_scene *sc, const psim_config *cfg,
                             long checked, long seen, psim_error *err)
 {
     psim_error e2 = {{0}, 0};
     psim_scene again = {0};
-    if (!sc->x) {
-        if (reload_scene(o, &again))
-            return;
-        sc = &again;
-    }
-    psim_sim *s2 = psim_create(sc, cfg, &e2);
+    if (!sc->x)
+        sc = reload_scene(o, &again) ? NULL : &again;
+    psim_sim *s2 = sc ? psim_create(sc, cfg, &e2) : NULL;
+    int looked = s2 != NULL;   /* at every step before `seen` */
     for (long k = s2 ? psim_step_index(s2) + 1 : seen; k < seen; k++) {
-        if (psim_step(s2, &e2))
+        if (psim_step(s2, &e2)) {
+            looked = 0;
             break;
+        }
         if (k > checked && psim_state_finite(s2, &e2)) {
             *err = e2;
             break;
         }
     }
+    if (!looked)
+        uncertain_step(err, checked);
     psim_destroy(s2);
     psim_scene_free(&again);
 }
@@ -696,8 +720,15 @@ int cli_run(int argc, char **argv)
     psim_sim *s = NULL;
     rc = 1;
     omp_set_dynamic(0);
-    if (!o.pin.dry_run)
-        cli_choose_wait_policy(o.threads ? (int)o.threads : omp_get_max_threads());
+    const int asked = o.threads ? (int)o.threads : omp_get_max_threads(),
+              threads = cli_threads_cap(asked);
+    if (threads < asked)
+        o.threads = threads;   /* the runtime would start no more */
+    if (!o.pin.dry_run) {
+        cli_choose_wait_policy(threads);
+        if (cli_threads_startable(threads))
+            goto done;
+    }
     if (o.pin.dry_run) {
         if (cli_pin_setup(&o.pin, (int)o.threads, o.quiet) == 0) {
             psim_pin_plan_print(stdout, o.pin.topo, &o.pin.plan);
@@ -710,12 +741,12 @@ int cli_run(int argc, char **argv)
         omp_set_num_threads((int)o.threads);
     double t_read = psim_now();
     if (load_scene(&o, &sc, &err)) {
-        fprintf(stderr, "psim: %s\n", err.msg);
+        cli_err("psim: %s", err.msg);
         rc = err.usage ? 2 : 1;
         goto done;
     }
     if (sc.restart.present && !known_model(sc.restart.model)) {
-        fprintf(stderr, "psim: %s:1: restart header: unknown model '%s' (psim models lists them)\n",
+        cli_err("psim: %s:1: restart header: unknown model '%s' (psim models lists them)",
                 sc.source ? sc.source : "<stdin>", sc.restart.model);
         goto done;
     }
@@ -735,13 +766,14 @@ int cli_run(int argc, char **argv)
     cfg.options = o.options;
     cfg.steps = steps;
     /* The engine takes the scene's particles (freed once its store holds
-     * them), except from standard input, which cannot be read twice: that
-     * scene is kept whole for a second run that looks for the first
-     * non-finite step; any other is made or read again for it. */
-    const int keep_scene = o.scene && strcmp(o.scene, "-") == 0;
+     * them), except from what cannot be read twice (standard input, a
+     * pipe, a FIFO, a device): that scene is kept whole for a second run
+     * that looks for the first non-finite step; any other is made or read
+     * again for it. */
+    const int keep_scene = o.scene && !rereadable(&o);
     s = keep_scene ? psim_create(&sc, &cfg, &err) : psim_create_taking(&sc, &cfg, &err);
     if (!s) {
-        fprintf(stderr, "psim: %s\n", err.msg);
+        cli_err("psim: %s", err.msg);
         rc = err.usage ? 2 : 1;
         goto done;
     }
@@ -759,7 +791,7 @@ int cli_run(int argc, char **argv)
     }
     double t0 = psim_now();
     if (simulate(&o, s, &sc, &cfg, steps, &rs, &err)) {
-        fprintf(stderr, "psim: %s: %s\n", o.label, err.msg);
+        cli_err("psim: %s: %s", o.label, err.msg);
         goto done;
     }
     /* the steps' time, without the states written between them (the
@@ -769,17 +801,17 @@ int cli_run(int argc, char **argv)
     const long last = psim_step_index(s);
     if (rs.out.f && rs.style.final && write_out(&o, s, &rs.out, last, 1)) {
         set_write_failed(&err, rs.out.name);
-        fprintf(stderr, "psim: %s\n", err.msg);
+        cli_err("psim: %s", err.msg);
         goto done;
     }
     if (rs.final.f && write_trace(&o, s, &rs.final, last)) {
         set_write_failed(&err, rs.final.name);
-        fprintf(stderr, "psim: %s\n", err.msg);
+        cli_err("psim: %s", err.msg);
         goto done;
     }
     if (rs.restart.f && write_restart(&o, s, &rs.restart, steps)) {
         set_write_failed(&err, rs.restart.name);
-        fprintf(stderr, "psim: %s\n", err.msg);
+        cli_err("psim: %s", err.msg);
         goto done;
     }
     if ((o.report || o.stats) && !o.pin.topo)
@@ -835,7 +867,7 @@ int cli_models(int argc, char **argv)
         return 0;
     }
     if (argc > 1) {
-        fprintf(stderr, "psim models: unexpected argument '%s'\n", argv[1]);
+        cli_err("psim models: unexpected argument '%s'", argv[1]);
         return 2;
     }
     for (int k = 0; k < psim_model_count(); k++) {

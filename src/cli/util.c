@@ -19,11 +19,11 @@ int cli_long(const char *opt, const char *text, long lo, long hi, long *out)
     errno = 0;
     long v = strtol(text, &end, 10);
     if (end == text || *end || errno == ERANGE) {
-        fprintf(stderr, "psim: %s: expected an integer, got '%s'\n", opt, text);
+        cli_err("psim: %s: expected an integer, got '%s'", opt, text);
         return -1;
     }
     if (v < lo || v > hi) {
-        fprintf(stderr, "psim: %s: %ld is out of range %ld..%ld\n", opt, v, lo, hi);
+        cli_err("psim: %s: %ld is out of range %ld..%ld", opt, v, lo, hi);
         return -1;
     }
     *out = v;
@@ -34,13 +34,19 @@ int cli_double(const char *opt, const char *text, double lo, double hi,
                double *out)
 {
     char *end;
+    errno = 0;
     double v = strtod(text, &end);
     if (end == text || *end || !isfinite(v)) {
-        fprintf(stderr, "psim: %s: expected a finite number, got '%s'\n", opt, text);
+        cli_err("psim: %s: expected a finite number, got '%s'", opt, text);
+        return -1;
+    }
+    if (errno == ERANGE && v == 0) {   /* below the smallest double: read as 0 */
+        cli_err("psim: %s: '%s' is too small for a double (below 4.9e-324)", opt,
+                text);
         return -1;
     }
     if (v < lo || v > hi) {
-        fprintf(stderr, "psim: %s: %g is out of range %g..%g\n", opt, v, lo, hi);
+        cli_err("psim: %s: %g is out of range %g..%g", opt, v, lo, hi);
         return -1;
     }
     *out = v;
@@ -54,7 +60,7 @@ int cli_env_threads(void)
         return 0;
     size_t len = strcspn(v, ",");
     if (len > 20) {
-        fprintf(stderr, "psim: OMP_NUM_THREADS: expected an integer, got '%.40s'\n", v);
+        cli_err("psim: OMP_NUM_THREADS: expected an integer, got '%.40s'", v);
         return -1;
     }
     char first[24];
@@ -148,10 +154,10 @@ void cli_bad_option(const char *cmd, char **argv, int c)
         snprintf(name, sizeof name, "-%c", optopt);
     const char *sp = cmd ? " " : "", *sub = cmd ? cmd : "";
     if (c == ':')
-        fprintf(stderr, "psim%s%s: option '%s' needs a value (see psim%s%s --help)\n", sp,
+        cli_err("psim%s%s: option '%s' needs a value (see psim%s%s --help)", sp,
                 sub, name, sp, sub);
     else
-        fprintf(stderr, "psim%s%s: unknown option '%s' (see psim%s%s --help)\n", sp, sub,
+        cli_err("psim%s%s: unknown option '%s' (see psim%s%s --help)", sp, sub,
                 name, sp, sub);
 }
 
@@ -192,7 +198,7 @@ void progress_update(progress *p, long done)
         return;
     double eta = done ? (now - p->start) * (double)(p->total - done) / (double)done : 0;
     if (!p->tty) {
-        fprintf(stderr, "psim: step %ld of %ld (%.0f%%), %.0f s so far, about %.0f s left\n",
+        cli_err("psim: step %ld of %ld (%.0f%%), %.0f s so far, about %.0f s left",
                 done, p->total, p->total ? 100.0 * (double)done / (double)p->total : 100.0,
                 now - p->start, eta);
         return;
@@ -242,7 +248,7 @@ static void io_show(void *ctx, int writing, long long done, long long total)
     if (total > 0)
         snprintf(left, sizeof left, p->tty ? ", %.1f s left" : ", about %.0f s left", eta);
     if (!p->tty) {
-        fprintf(stderr, "psim: %s: %s (%.0f%%), %.0f s so far%s\n", io.what, count,
+        cli_err("psim: %s: %s (%.0f%%), %.0f s so far%s", io.what, count,
                 100 * frac, now - p->start, left);
         return;
     }
@@ -259,7 +265,8 @@ static void io_show(void *ctx, int writing, long long done, long long total)
 void cli_io_begin(const char *verb, const char *name, int quiet)
 {
     progress_init(&io.pb, 0, quiet);
-    snprintf(io.what, sizeof io.what, "%s %s", verb, name);
+    int n = snprintf(io.what, sizeof io.what, "%s ", verb);
+    cli_escape(io.what + n, sizeof io.what - (size_t)n, name);   /* shown on a terminal */
     io.on = 1;
     io.width = 0;
     psim_set_io_progress(io_show, NULL);

@@ -203,6 +203,19 @@ static void option_names(const psim_model *m, char *buf, size_t size)
         snprintf(buf, size, "none");
 }
 
+/* Why a number strtod read (v, with its errno) cannot be taken, or NULL:
+ * beyond the largest double, or so small that it read as zero.  A number
+ * below the smallest normal double that reads as a subnormal one is taken
+ * as it reads. */
+static const char *option_beyond_double(double v, int read_errno)
+{
+    if (read_errno != ERANGE)
+        return NULL;
+    if (isinf(v))
+        return "too large for a double (beyond 1.8e308)";
+    return v == 0 ? "too small for a double (below 4.9e-324: it reads as 0)" : NULL;
+}
+
 /* Parse "KEY=VALUE,KEY=VALUE" against the model's options. */
 static int parse_options(psim_sim *e, const char *text, psim_error *err)
 {
@@ -227,8 +240,15 @@ static int parse_options(psim_sim *e, const char *text, psim_error *err)
         char *stop;
         errno = 0;
         double v = strtod(eq + 1, &stop);
-        if (stop == eq + 1 || stop != text + len || errno || !(v >= o->lo && v <= o->hi) ||
-            (o->whole && v != floor(v))) {
+        const int read = stop != eq + 1 && stop == text + len;
+        const char *beyond = read ? option_beyond_double(v, errno) : NULL;
+        if (beyond) {
+            psim_error_set(err, "option %s: '%.*s' is %s", o->name,
+                           (int)(text + len - eq - 1), eq + 1, beyond);
+            err->usage = 1;
+            return -1;
+        }
+        if (!read || !(v >= o->lo && v <= o->hi) || (o->whole && v != floor(v))) {
             psim_error_set(err, "option %s: '%.*s' is not %s in [%g, %g]", o->name,
                            (int)(text + len - eq - 1), eq + 1,
                            o->whole ? "a whole number" : "a number", o->lo, o->hi);
@@ -268,6 +288,8 @@ psim_sim *psim_engine_create(psim_scene *sc, const psim_config *cfg,
     }
     e->cfg = *cfg;
     e->threads = cfg->threads > 0 ? cfg->threads : omp_get_max_threads();
+    if (e->threads > omp_get_thread_limit())   /* no team gets more (OMP_THREAD_LIMIT) */
+        e->threads = omp_get_thread_limit();
     e->n = sc->n;
     e->L = sc->L;
     e->r = sc->r;

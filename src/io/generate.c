@@ -103,6 +103,7 @@ static int place_lattice(const psim_gen_params *p, psim_scene *sc,
             "cannot place %ld disks of radius %g on a lattice in a box of side %g: "
             "the spacing %g is not more than 2r (square lattices hold density < 0.785)",
             p->n, p->r, p->L, a);
+        err->usage = 1;   /* what the options ask cannot be made */
         return -1;
     }
     long sites = k * k;
@@ -138,11 +139,13 @@ int psim_scene_generate(const psim_gen_params *p, psim_scene *sc,
         !isfinite(p->r)) {
         psim_error_set(err, "invalid generator parameters: need N >= 0, L > 0, r > 0, "
                             "S >= 0 and finite vmin <= vmax");
+        err->usage = 1;   /* what the options ask cannot be made */
         return -1;
     }
     if (!(2 * p->r < p->L)) {
         psim_error_set(err, "radius r = %g does not fit in the box: 2r must be less "
                             "than L = %g", p->r, p->L);
+        err->usage = 1;   /* what the options ask cannot be made */
         return -1;
     }
     if (psim_scene_alloc(sc, p->n, err))
