@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# A hostile environment (issue 11): OMP_NUM_THREADS out of range, standard
+# A hostile environment: OMP_NUM_THREADS out of range, standard
 # output on a full device, contradictory flags, signals that end a run, a
 # state that overflows under --check.  Each gets one clear line and the
 # documented exit status, and no output file or temporary file is left.
@@ -122,10 +122,7 @@ for sig in INT QUIT TERM HUP ALRM XCPU USR1 PIPE; do
     "$PSIM" -q --threads 1 --out "$tmp/sig.out" --stats "$tmp/sig.json" "$tmp/big.in" &
     pid=$!
     set +m
-    for _ in $(seq 100); do
-        [[ -n $(cd "$tmp" && ls -- sig.out.tmp* 2>/dev/null) ]] && break
-        sleep 0.05
-    done
+    outputs_open "$pid" "$tmp" 2
     sleep 0.2
     kill -s "$sig" "$pid"
     rc=0
