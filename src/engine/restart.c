@@ -132,8 +132,8 @@ static int put_header(FILE *f, const psim_sim *e, long steps)
         if (fprintf(f, "%s%s:%s", any++ ? "," : " values=", e->stats.value_name[k], b) < 0)
             return -1;
     }
-    for (int k = 0; m->restart_cols[k]; k++)
-        if (fprintf(f, "%s%s", k ? "," : " columns=", m->restart_cols[k]) < 0)
+    for (int k = 0; m->restart_cols[k].name; k++)
+        if (fprintf(f, "%s%s", k ? "," : " columns=", m->restart_cols[k].name) < 0)
             return -1;
     char l[PSIM_FMT_MAX], r[PSIM_FMT_MAX];
     psim_fmt_shortest(l, e->L);
@@ -145,6 +145,7 @@ typedef struct restart_lines {
     const psim_store *st;
     const int32_t *at;      /* NULL: in the store's order; else by id */
     double *col[PSIM_RESTART_COLS];
+    int integer[PSIM_RESTART_COLS];   /* written as integers (the reader reads them so) */
     int ncols;
 } restart_lines;
 
@@ -166,7 +167,10 @@ static size_t restart_line(char *out, long j, const void *vctx)
     }
     for (int q = 0; q < c->ncols; q++) {
         *p++ = ' ';
-        p += psim_fmt_shortest(p, c->col[q][i]);
+        if (c->integer[q])
+            p = psim_fmt_long(p, (long long)c->col[q][i]);
+        else
+            p += psim_fmt_shortest(p, c->col[q][i]);
     }
     *p++ = '\n';
     return (size_t)(p - out);
@@ -184,7 +188,8 @@ int psim_write_restart(psim_sim *e, FILE *f, long steps)
             goto done;
         c.at = by_id.at;
     }
-    for (; c.ncols < PSIM_RESTART_COLS && e->model->restart_cols[c.ncols]; c.ncols++) {
+    for (; c.ncols < PSIM_RESTART_COLS && e->model->restart_cols[c.ncols].name; c.ncols++) {
+        c.integer[c.ncols] = e->model->restart_cols[c.ncols].integer;
         c.col[c.ncols] = psim_alloc((size_t)(e->n > 0 ? e->n : 1) * sizeof(double));
         if (!c.col[c.ncols])
             goto done;
