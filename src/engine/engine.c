@@ -302,10 +302,8 @@ psim_sim *psim_engine_create(psim_scene *sc, const psim_config *cfg,
     }
     if (parse_options(e, cfg->options, err))
         goto fail;
-    if (psim_engine_restart_init(e, sc)) {
-        psim_error_set(err, "out of memory for %ld particles", sc->n);
+    if (psim_engine_restart_init(e, sc, err))
         goto fail;
-    }
     if (psim_store_init(&e->st, (size_t)sc->n)) {
         psim_error_set(err, "out of memory for %ld particles", sc->n);
         goto fail;

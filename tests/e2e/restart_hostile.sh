@@ -73,6 +73,18 @@ for m in "${models[@]}"; do
         "$m: the restart files after 8 steps"
 done
 
+# the longest first line psim writes, 513 cuts an axis of up to 5 digits
+# (6 KB), is read (the cuts, which do not fit this grid, are left out);
+# a longer one is refused at line 1
+m=${models[0]}
+cuts=$(seq 0 90 46080 | paste -sd,)
+header long "$m" "s/ cuts=[^ ]*//; s/\$/ cuts=$cuts,$cuts/"
+(($(head -1 "$tmp/long.rs" | wc -c) > 6000)) || fail "the long header is too short"
+run_ok "$PSIM" -q --steps 1 --final "$tmp/long.final" "$tmp/long.rs"
+cuts=$(seq 1000000000 1000 1000512000 | paste -sd,)
+header longer "$m" "s/ cuts=[^ ]*//; s/\$/ cuts=0,$cuts,0,$cuts/"
+refused 1 "line longer than 8192 bytes" "$tmp/longer.rs"
+
 # --- the header ---------------------------------------------------------------
 for m in "${models[@]}"; do
     header "$m.key" "$m" 's/$/ colour=red/'
