@@ -110,13 +110,13 @@ for m in "${models[@]}"; do
     header "$m.print1" "$m" 's/ format=[a-z0-9]*/ format=2024/; s/ print=0/ print=1/'
     refused 1 "print=1 is for format=2019" "$tmp/$m.print1.rs"
     # grids no model asks for: the engine would plan from them
-    for v in 0,0,0 -1,0,0 1e999,0,0 1,0.5,0 1,-1,0 1,0,3 1,0,2.5 1,0,2097152 1,0 1,0,0, \
+    for v in 0,0,0 -1,0,0 1e999,0,0 1,0.5,0 1,-1,0 1,0,3 1,0,2.5 1,0,2097152 1,0 "1,0,0," \
         1,0,0,5,0,4,9 1,0,0,0,5,9,4 1,0,0,1,2,3 x,0,0; do
         header "$m.grid" "$m" "s/ grid=[^ ]*//; s/\$/ grid=$v/"
         refused 1 "grid must be REACH,OCC,TILE" "$tmp/$m.grid.rs"
     done
     # cuts: each axis 0 < ... < G, the same G, as many on each
-    for v in 0,x,58 0,2,1,0,1,2 1,2,1,2 0,2,0,3 0,1,2 0,1,0,1, 0,4294967296,0,4294967296; do
+    for v in 0,x,58 0,2,1,0,1,2 1,2,1,2 0,2,0,3 0,1,2 "0,1,0,1," 0,4294967296,0,4294967296; do
         header "$m.cuts" "$m" "s/ cuts=[^ ]*//; s/\$/ cuts=$v/"
         refused 1 "cuts must be" "$tmp/$m.cuts.rs"
     done
@@ -223,7 +223,7 @@ for m in "${models[@]}"; do
             done
         else
             [[ $FAIL_LINE == *"must be a finite number"* ]] || fail "$m: $c: $FAIL_LINE"
-            lo= hi=
+            lo='' hi=''
         fi
         # the ends of its range: taken, or refused by the model at the line
         # (a value that depends on the scene), never used blindly
