@@ -745,11 +745,6 @@ int cli_run(int argc, char **argv)
         rc = err.usage ? 2 : 1;
         goto done;
     }
-    if (sc.restart.present && !known_model(sc.restart.model)) {
-        cli_err("psim: %s:1: restart header: unknown model '%s' (psim models lists them)",
-                sc.source ? sc.source : "<stdin>", sc.restart.model);
-        goto done;
-    }
     o.read_s = psim_now() - t_read;
     psim_scene_substeps(&sc, o.substeps);
     long steps = o.steps >= 0 ? o.steps * o.substeps : sc.steps;

@@ -216,11 +216,14 @@ static const char *option_beyond_double(double v, int read_errno)
     return v == 0 ? "too small for a double (below 4.9e-324: it reads as 0)" : NULL;
 }
 
-/* Parse "KEY=VALUE,KEY=VALUE" against the model's options. */
-static int parse_options(psim_sim *e, const char *text, psim_error *err)
+/* Parse "KEY=VALUE,KEY=VALUE" against model m's options into value[]
+ * and set[]; with once, a name given twice (a restart file's header has
+ * each once) or an empty item is an error too. */
+static int options_parse(const psim_model *m, const char *text, int once, double *value,
+                         int *set, psim_error *err)
 {
     char names[256];
-    while (text && *text) {
+    while (text && (*text || once)) {
         const char *end = strchr(text, ','), *eq = strchr(text, '=');
         size_t len = end ? (size_t)(end - text) : strlen(text);
         if (!eq || eq >= text + len) {
@@ -228,15 +231,19 @@ static int parse_options(psim_sim *e, const char *text, psim_error *err)
             err->usage = 1;
             return -1;
         }
-        int k = option_index(e->model, text, (size_t)(eq - text));
+        int k = option_index(m, text, (size_t)(eq - text));
         if (k < 0) {
-            option_names(e->model, names, sizeof names);
+            option_names(m, names, sizeof names);
             psim_error_set(err, "the %s model has no option '%.*s' (its options: %s)",
-                           e->model->name, (int)(eq - text), text, names);
+                           m->name, (int)(eq - text), text, names);
             err->usage = 1;
             return -1;
         }
-        const psim_model_option *o = &e->model->options[k];
+        if (once && set[k]) {
+            psim_error_set(err, "option %s given twice", m->options[k].name);
+            return -1;
+        }
+        const psim_model_option *o = &m->options[k];
         char *stop;
         errno = 0;
         double v = strtod(eq + 1, &stop);
@@ -255,20 +262,33 @@ static int parse_options(psim_sim *e, const char *text, psim_error *err)
             err->usage = 1;
             return -1;
         }
-        e->opt_value[k] = v;
-        e->opt_set[k] = 1;
-        text = end ? end + 1 : text + len;
+        value[k] = v;
+        set[k] = 1;
+        text = end ? end + 1 : NULL;
     }
     return 0;
 }
 
+static int parse_options(psim_sim *e, const char *text, psim_error *err)
+{
+    return options_parse(e->model, text, 0, e->opt_value, e->opt_set, err);
+}
+
+int psim_engine_options_check(const psim_model *m, const char *text, psim_error *err)
+{
+    double value[PSIM_MODEL_OPTIONS];
+    int set[PSIM_MODEL_OPTIONS] = {0};
+    return options_parse(m, text, 1, value, set, err);
+}
+
 /* A bad option in a restart file's header is the file's fault, not the
- * command line's: its name and line (the header is line 1) go first. */
+ * command line's: its name and line go first. */
 static void restart_option_error(const psim_scene *sc, psim_error *err)
 {
     char msg[sizeof err->msg];
     memcpy(msg, err->msg, sizeof msg);
-    psim_error_set(err, "%s:1: restart header: %s", sc->source ? sc->source : "<restart>", msg);
+    psim_error_set(err, "%s:%ld: restart header: %s", sc->source ? sc->source : "<restart>",
+                   sc->restart.line, msg);
     err->usage = 0;
 }
 
@@ -304,10 +324,8 @@ psim_sim *psim_engine_create(psim_scene *sc, const psim_config *cfg,
     }
     if (parse_options(e, cfg->options, err))
         goto fail;
-    if (psim_engine_restart_init(e, sc)) {
-        psim_error_set(err, "out of memory for %ld particles", sc->n);
+    if (psim_engine_restart_init(e, sc, err))
         goto fail;
-    }
     if (psim_store_init(&e->st, (size_t)sc->n)) {
         psim_error_set(err, "out of memory for %ld particles", sc->n);
         goto fail;

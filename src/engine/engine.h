@@ -46,8 +46,9 @@ struct psim_sim {
 
 /* restart.c: what a restart file carries into the engine at its creation
  * (the steps done, the grid plan, the store order; the model's options
- * are parsed by the caller).  0, or -1 out of memory. */
-int psim_engine_restart_init(struct psim_sim *e, psim_scene *sc);
+ * are parsed by the caller), its model's columns held to their kinds and
+ * ranges.  0, or -1 with err set. */
+int psim_engine_restart_init(struct psim_sim *e, psim_scene *sc, psim_error *err);
 /* The store into the restart's order (before the first sort). */
 void psim_engine_restart_order(struct psim_sim *e);
 

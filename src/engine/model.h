@@ -79,9 +79,11 @@ typedef struct psim_model {
     void (*source_summary)(FILE *f, const struct psim_sim *e, const void *m,
                            double seconds);
     /* optional: each particle's own state beyond x, y, vx and vy, for
-     * restart files: the columns' names (NULL-terminated) and column k by
-     * id; create reads them back (psim_engine_restart_column) */
-    const char *restart_cols[PSIM_RESTART_COLS + 1];
+     * restart files: the columns (name NULL ends them; the reader holds a
+     * file's values to each one's kind and range, and requires them all)
+     * and column k by id; create reads them back
+     * (psim_engine_restart_column) */
+    psim_restart_col restart_cols[PSIM_RESTART_COLS + 1];
     void (*restart_save)(const struct psim_sim *e, const void *m, int k, double *by_id);
     /* optional: its source's own initial state of n particles from seed */
     int (*generate)(psim_scene *sc, long n, uint64_t seed, psim_error *err);
@@ -126,6 +128,9 @@ void psim_engine_tile_particles(struct psim_sim *e, double particles);
 void psim_engine_grid_cut(struct psim_sim *e, const int32_t *cut_x, const int32_t *cut_y);
 /* Sort the store by cell now (after a re-plan), timed as the sort. */
 void psim_engine_sort(struct psim_sim *e);
+/* Whether text "K=V,..." holds options of model m, each once (a restart
+ * file's): 0, or -1 with err set. */
+int psim_engine_options_check(const psim_model *m, const char *text, psim_error *err);
 /* Value of the model's option called name (one of its options[]), or dflt
  * when the run did not set it. */
 double psim_engine_option(const struct psim_sim *e, const char *name, double dflt);

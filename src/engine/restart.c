@@ -16,7 +16,29 @@
 #include "../io/fmt.h"
 #include "../io/restart.h"
 
-int psim_engine_restart_init(psim_sim *e, psim_scene *sc)
+/* The model's columns in sc, each value of its column's kind and range
+ * (a model converts them to its integer types): the scene reader holds a
+ * file to them, and a scene made by the library's caller is held to them
+ * here.  0, or -1 with err naming the first that is not. */
+static int columns_ok(const psim_sim *e, const psim_scene *sc, psim_error *err)
+{
+    for (int k = 0; k < PSIM_RESTART_COLS && e->model->restart_cols[k].name; k++) {
+        const psim_restart_col *c = &e->model->restart_cols[k];
+        const double *v = psim_restart_column(sc, e->model->name, c->name);
+        for (long i = 0; v && i < sc->n; i++)
+            if (!(v[i] >= c->lo && v[i] <= c->hi) || (c->integer && v[i] != floor(v[i]))) {
+                char at[320];
+                psim_scene_where(sc, i, at, sizeof at);
+                psim_error_set(err, "%sparticle %ld: %s %.17g is not %s in [%.17g, %.17g]", at,
+                               i, c->name, v[i], c->integer ? "a whole number" : "a number",
+                               c->lo, c->hi);
+                return -1;
+            }
+    }
+    return 0;
+}
+
+int psim_engine_restart_init(psim_sim *e, psim_scene *sc, psim_error *err)
 {
     const psim_restart *rs = &sc->restart;
     e->format = sc->format;
@@ -26,6 +48,8 @@ int psim_engine_restart_init(psim_sim *e, psim_scene *sc)
     e->step = e->step0 = rs->step;
     if (strcmp(rs->model, e->model->name))
         return 0;   /* another model's plan and order are not this one's */
+    if (columns_ok(e, sc, err))
+        return -1;
     if (rs->has_grid) {
         e->grid_saved = 1;
         e->grid_saved_bbox = rs->grid_has_bbox;
@@ -35,8 +59,10 @@ int psim_engine_restart_init(psim_sim *e, psim_scene *sc)
     }
     if (e->model->follows_order && rs->order && e->n > 0) {
         e->restart_order = malloc((size_t)e->n * sizeof *e->restart_order);
-        if (!e->restart_order)
+        if (!e->restart_order) {
+            psim_error_set(err, "out of memory for %ld particles", sc->n);
             return -1;
+        }
         memcpy(e->restart_order, rs->order, (size_t)e->n * sizeof *e->restart_order);
     }
     return 0;
@@ -132,8 +158,8 @@ static int put_header(FILE *f, const psim_sim *e, long steps)
         if (fprintf(f, "%s%s:%s", any++ ? "," : " values=", e->stats.value_name[k], b) < 0)
             return -1;
     }
-    for (int k = 0; m->restart_cols[k]; k++)
-        if (fprintf(f, "%s%s", k ? "," : " columns=", m->restart_cols[k]) < 0)
+    for (int k = 0; m->restart_cols[k].name; k++)
+        if (fprintf(f, "%s%s", k ? "," : " columns=", m->restart_cols[k].name) < 0)
             return -1;
     char l[PSIM_FMT_MAX], r[PSIM_FMT_MAX];
     psim_fmt_shortest(l, e->L);
@@ -145,6 +171,7 @@ typedef struct restart_lines {
     const psim_store *st;
     const int32_t *at;      /* NULL: in the store's order; else by id */
     double *col[PSIM_RESTART_COLS];
+    int integer[PSIM_RESTART_COLS];   /* written as integers (the reader reads them so) */
     int ncols;
 } restart_lines;
 
@@ -166,7 +193,10 @@ static size_t restart_line(char *out, long j, const void *vctx)
     }
     for (int q = 0; q < c->ncols; q++) {
         *p++ = ' ';
-        p += psim_fmt_shortest(p, c->col[q][i]);
+        if (c->integer[q])
+            p = psim_fmt_long(p, (long long)c->col[q][i]);
+        else
+            p += psim_fmt_shortest(p, c->col[q][i]);
     }
     *p++ = '\n';
     return (size_t)(p - out);
@@ -184,7 +214,8 @@ int psim_write_restart(psim_sim *e, FILE *f, long steps)
             goto done;
         c.at = by_id.at;
     }
-    for (; c.ncols < PSIM_RESTART_COLS && e->model->restart_cols[c.ncols]; c.ncols++) {
+    for (; c.ncols < PSIM_RESTART_COLS && e->model->restart_cols[c.ncols].name; c.ncols++) {
+        c.integer[c.ncols] = e->model->restart_cols[c.ncols].integer;
         c.col[c.ncols] = psim_alloc((size_t)(e->n > 0 ? e->n : 1) * sizeof(double));
         if (!c.col[c.ncols])
             goto done;

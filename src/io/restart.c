@@ -6,13 +6,13 @@
  * and the order of its particle lines (the run's own order, which the
  * discrete model's results follow).  The scene reader calls these; the
  * engine writes the file (src/engine/restart.c). */
-#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "fmt.h"
 #include "restart.h"
+#include "restart_schema.h"
 
 static int bad(psim_error *err, const char *name, long line, const char *what,
                const char *tok)
@@ -33,22 +33,40 @@ static int word_ok(const char *s, size_t len, size_t size)
     return 1;
 }
 
-/* Up to max numbers separated by commas: their count, or -1. */
-static int number_list(const char *v, double *out, int max)
+/* A whole number of decimal digits at s, at most max: the end, with *v
+ * set, or NULL (no digits, or more than max). */
+static const char *scan_whole(const char *s, long max, long *v)
 {
-    int k = 0;
-    while (*v) {
-        if (k == max)
-            return -1;
-        const char *end = psim_scan_double(v, &out[k]);
-        if (!end || !isfinite(out[k]) || (*end && *end != ','))
-            return -1;
-        k++;
-        v = *end ? end + 1 : end;
-        if (*end && !*v)
-            return -1;   /* a trailing comma */
+    long k = 0;
+    const char *p = s;
+    for (; *p >= '0' && *p <= '9'; p++) {
+        k = k * 10 + (*p - '0');
+        if (k > max)
+            return NULL;
     }
-    return k;
+    *v = k;
+    return p == s ? NULL : p;
+}
+
+/* One item of a list at *v: a finite number (whole with `whole`, then at
+ * most max), followed by a comma and more or by the end.  0 with *v moved
+ * past it, or -1. */
+static int list_item(const char **v, int whole, long max, double *out)
+{
+    const char *end;
+    long k = 0;
+    if (whole) {
+        end = scan_whole(*v, max, &k);
+        *out = (double)k;
+    } else {
+        end = psim_scan_double(*v, out);
+        if (end && !isfinite(*out))
+            return -1;
+    }
+    if (!end || (*end && (*end != ',' || !end[1])))
+        return -1;   /* not a number, or text or a trailing comma after it */
+    *v = *end ? end + 1 : end;
+    return 0;
 }
 
 static int column_names(psim_restart *rs, const char *v)
@@ -66,25 +84,59 @@ static int column_names(psim_restart *rs, const char *v)
     return rs->ncols > 0 ? 0 : -1;
 }
 
-/* X0,...,XT,Y0,...,YT: the tiles' cuts (the engine checks them against its
- * grid: a plan that no longer fits is left at its default cuts). */
+/* REACH,OCC,TILE[,X0,Y0,X1,Y1]: the grid the model asked for.  The
+ * engine plans from it as from the model's own ask, so it holds to what
+ * a model asks: a positive reach, an occupancy of 0 (the default) or at
+ * least 1 (fewer particles a cell plans more cells than the engine
+ * numbers: sqrt(2^31 / OCC) a side), TILE 0 or a power of two up to 2^20
+ * (as --tile) and a region whose corners are in order. */
+static int grid_plan(psim_restart *rs, const char *v)
+{
+    double *g = rs->grid;
+    int k = 0;
+    for (; *v && k < 7; k++)
+        if (list_item(&v, k == 2, 1L << 20, &g[k]))
+            return -1;
+    long tile = (long)g[2];
+    if (*v || (k != 3 && k != 7) || !(g[0] > 0) || !(g[1] == 0 || g[1] >= 1) ||
+        (tile & (tile - 1)) || (k == 7 && !(g[3] <= g[5] && g[4] <= g[6])))
+        return -1;
+    rs->has_grid = 1;
+    rs->grid_has_bbox = k == 7;
+    return 0;
+}
+
+/* Cuts 0 = c[0] < c[1] < ... < c[T] of one axis. */
+static int cuts_increase(const int32_t *c, int T)
+{
+    if (c[0] != 0)
+        return 0;
+    for (int j = 0; j < T; j++)
+        if (c[j + 1] <= c[j])
+            return 0;
+    return 1;
+}
+
+/* X0,...,XT,Y0,...,YT: the tiles' cuts, each axis from 0 up to the same
+ * G (the engine checks them against its grid: a plan that no longer fits
+ * is left at its default cuts). */
 static int cut_list(psim_restart *rs, const char *v)
 {
     rs->ncuts = 0;
     while (*v) {
-        char *end;
-        errno = 0;
-        long c = strtol(v, &end, 10);
-        if (end == v || errno || c < 0 || c > INT32_MAX || (*end && *end != ',') ||
-            rs->ncuts == PSIM_RESTART_CUTS || (*end && !end[1]))
+        double c;
+        if (rs->ncuts == PSIM_RESTART_CUTS || list_item(&v, 1, INT32_MAX, &c))
             return -1;
         rs->cuts[rs->ncuts++] = (int32_t)c;
-        v = *end ? end + 1 : end;
     }
-    return rs->ncuts >= 4 && rs->ncuts % 2 == 0 ? 0 : -1;
+    int T = rs->ncuts / 2 - 1;
+    return rs->ncuts >= 4 && rs->ncuts % 2 == 0 && cuts_increase(rs->cuts, T) &&
+                   cuts_increase(rs->cuts + T + 1, T) && rs->cuts[T] == rs->cuts[2 * T + 1]
+               ? 0
+               : -1;
 }
 
-/* NAME:V,NAME:V: the model's values. */
+/* NAME:V,NAME:V: the model's values (finite numbers). */
 static int value_list(psim_restart *rs, const char *v)
 {
     rs->nvalues = 0;
@@ -94,11 +146,10 @@ static int value_list(psim_restart *rs, const char *v)
             return -1;
         memcpy(rs->valname[rs->nvalues], v, len);
         rs->valname[rs->nvalues][len] = '\0';
-        const char *end = psim_scan_double(v + len + 1, &rs->value[rs->nvalues]);
-        if (!end || (*end && *end != ',') || (*end && !end[1]))
+        v += len + 1;
+        if (list_item(&v, 0, 0, &rs->value[rs->nvalues]))
             return -1;
         rs->nvalues++;
-        v = *end ? end + 1 : end;
     }
     return rs->nvalues > 0 ? 0 : -1;
 }
@@ -119,12 +170,9 @@ static int header_pair(psim_scene *sc, int k, char *v, const char *name, long li
             return bad(err, name, line, "not a model name:", v);
         strcpy(rs->model, v);
     } else if (k == HK_STEP) {
-        char *end;
-        errno = 0;
-        long step = strtol(v, &end, 10);
-        if (end == v || *end || errno || step < 0 || step > PSIM_MAX_STEPS)
+        const char *end = scan_whole(v, PSIM_MAX_STEPS, &rs->step);
+        if (!end || *end)
             return bad(err, name, line, "step must be an integer in 0..10^9, got", v);
-        rs->step = step;
     } else if (k == HK_FORMAT) {
         if (!strcmp(v, "2024"))
             sc->format = PSIM_SCENE_2024;
@@ -139,28 +187,26 @@ static int header_pair(psim_scene *sc, int k, char *v, const char *name, long li
             return bad(err, name, line, "print must be 0 or 1, got", v);
         sc->print = v[0] == '1';
     } else if (k == HK_OPTIONS) {
-        free(rs->options);
+        if (!*v)
+            return bad(err, name, line, "options must be NAME=VALUE,..., got", v);
         if (!(rs->options = strdup(v))) {
             psim_error_set(err, "%s: out of memory", name);
             return -1;
         }
     } else if (k == HK_GRID) {
-        int got = number_list(v, rs->grid, 7);
-        if ((got != 3 && got != 7) || !(rs->grid[0] > 0) || !(rs->grid[1] >= 0) ||
-            rs->grid[2] < 0 || rs->grid[2] > 65536 || rs->grid[2] != floor(rs->grid[2]))
+        if (grid_plan(rs, v))
             return bad(err, name, line,
-                       "grid must be REACH,OCC,TILE or REACH,OCC,TILE,X0,Y0,X1,Y1, got", v);
-        rs->has_grid = 1;
-        rs->grid_has_bbox = got == 7;
+                       "grid must be REACH,OCC,TILE[,X0,Y0,X1,Y1] (REACH > 0; OCC 0 or at "
+                       "least 1; TILE 0 or a power of two up to 2^20; X0 <= X1, Y0 <= Y1), got",
+                       v);
     } else if (k == HK_CUTS) {
         if (cut_list(rs, v))
             return bad(err, name, line,
                        "cuts must be 2 (T + 1) increasing cell numbers (0,...,G,0,...,G), got", v);
     } else if (k == HK_VALUES) {
         if (value_list(rs, v))
-            return bad(err, name, line, "values must be NAME:NUMBER,..., got", v);
+            return bad(err, name, line, "values must be NAME:NUMBER,... (finite), got", v);
     } else {   /* HK_COLUMNS */
-        rs->ncols = 0;
         if (column_names(rs, v))
             return bad(err, name, line, "columns must be up to 8 names separated by commas, got", v);
     }
@@ -197,14 +243,28 @@ static int header_key(psim_scene *sc, const char *tok, size_t len, const char *n
     return rc;
 }
 
-int psim_restart_header(psim_scene *sc, const char *text, const char *name, long line,
+/* The keys every restart file has, and the values that go together. */
+static int header_whole(const psim_scene *sc, unsigned seen, const char *name, long line,
                         psim_error *err)
+{
+    if (!(seen & (1u << HK_MODEL)))
+        return bad(err, name, line, "missing", "model=NAME");
+    if (!(seen & (1u << HK_STEP)))
+        return bad(err, name, line, "missing", "step=K");
+    if (sc->print && sc->format != PSIM_SCENE_2019)
+        return bad(err, name, line, "print=1 is for format=2019 scenes, got", "print=1");
+    return 0;
+}
+
+int psim_restart_header(psim_scene *sc, const char *text, const char *name, long line,
+                        psim_restart_schema_fn schema, psim_error *err)
 {
     static const char magic[] = "#psim restart 1";
     if (strncmp(text, magic, sizeof magic - 1) ||
         (text[sizeof magic - 1] && text[sizeof magic - 1] != ' ' && text[sizeof magic - 1] != '\t'))
         return bad(err, name, line, "expected '#psim restart 1 ...', got", text);
     sc->restart.present = 1;
+    sc->restart.line = line;
     const char *p = text + sizeof magic - 1;
     unsigned seen = 0;
     for (;;) {
@@ -216,9 +276,9 @@ int psim_restart_header(psim_scene *sc, const char *text, const char *name, long
             return -1;
         p += len;
     }
-    if (!sc->restart.model[0])
-        return bad(err, name, line, "missing", "model=NAME");
-    return 0;
+    if (header_whole(sc, seen, name, line, err))
+        return -1;
+    return psim_restart_check(sc, schema, name, err);
 }
 
 int psim_restart_alloc_columns(psim_scene *sc, psim_error *err)

@@ -3,11 +3,13 @@
 #ifndef PSIM_IO_RESTART_H
 #define PSIM_IO_RESTART_H
 #include "psim/psim.h"
+#include "restart_schema.h"
 
 /* The first line "#psim restart 1 KEY=VALUE ..." of file name at line:
- * into sc->restart (and sc->format, sc->print).  0, or -1 with err set. */
+ * into sc->restart (and sc->format, sc->print), checked against the
+ * schema of the model it names.  0, or -1 with err set. */
 int psim_restart_header(psim_scene *sc, const char *text, const char *name, long line,
-                        psim_error *err);
+                        psim_restart_schema_fn schema, psim_error *err);
 /* The model's columns of sc->n particles (after the header is read). */
 int psim_restart_alloc_columns(psim_scene *sc, psim_error *err);
 /* sc->restart.order from sc->line (after the particles are read). */

@@ -29,18 +29,23 @@
 
 #include "fmt.h"
 #include "restart.h"
+#include "scene_read.h"
 #include "psim/psim.h"
 
 /* The longest line a scene may have: five numbers of 17 digits with their
  * signs and exponents fit many times over.  A longer "line" is binary data
  * (a file of zero bytes has no newline at all). */
 #define MAX_LINE 4096
+/* A restart file's first line may be longer: its tiles' cuts alone are up
+ * to PSIM_RESTART_CUTS cell numbers of up to 5 digits (46341 cells a side
+ * at most), some 6 KB.  (Below the smallest block, 4 MAX_LINE.) */
+#define MAX_FIRST_LINE 8192
 
 typedef struct reader {
     FILE *f;
     const char *name;
     long line;
-    char *buf;      /* the current line: MAX_LINE + 1 bytes */
+    char *buf;      /* the current line: MAX_FIRST_LINE + 1 bytes */
     int pushed;     /* the line in buf is to be read again */
     int failed;     /* next_line found what no scene has (err is set) */
     psim_error *err;
@@ -50,6 +55,8 @@ typedef struct reader {
     long long consumed;  /* bytes of the file read as lines so far */
     long long size;      /* the file's size, -1 when unknown (a pipe) */
     size_t cap;          /* chunk's size (block_bytes) */
+    size_t max;          /* the longest line taken now (MAX_LINE, or more for
+                          * the first: MAX_FIRST_LINE) */
 } reader;
 
 /* Zero bytes kept after the data read (a NUL, and 8 bytes that
@@ -115,7 +122,7 @@ static int cr_alone(const char *p, size_t n)
 static long read_line(reader *rd)
 {
     if (!rd->buf) {
-        rd->buf = malloc(MAX_LINE + 1);
+        rd->buf = malloc(MAX_FIRST_LINE + 1);
         rd->chunk = malloc(rd->cap + PAD);
         if (!rd->buf || !rd->chunk) {
             psim_error_set(rd->err, "%s: out of memory", rd->name);
@@ -124,27 +131,27 @@ static long read_line(reader *rd)
     }
     const char *nl;
     size_t avail = rd->end - rd->pos;
-    while (!(nl = memchr(rd->chunk + rd->pos, '\n', avail)) && avail <= MAX_LINE && !rd->eof)
+    while (!(nl = memchr(rd->chunk + rd->pos, '\n', avail)) && avail <= rd->max && !rd->eof)
         avail = refill(rd);
     size_t len = nl ? (size_t)(nl - (rd->chunk + rd->pos)) : avail;
     if (!nl && len == 0)
         return -1;
-    const char *zero = memchr(rd->chunk + rd->pos, '\0', len < MAX_LINE ? len : MAX_LINE);
+    const char *zero = memchr(rd->chunk + rd->pos, '\0', len < rd->max ? len : rd->max);
     if (zero) {
         psim_error_set(rd->err, "%s:%ld: a NUL byte at column %ld: binary data, not a "
                        "scene (scenes are text)", rd->name, rd->line + 1,
                        (long)(zero - (rd->chunk + rd->pos)) + 1);
         return -2;
     }
-    if (cr_alone(rd->chunk + rd->pos, len < MAX_LINE ? len : MAX_LINE)) {
+    if (cr_alone(rd->chunk + rd->pos, len < rd->max ? len : rd->max)) {
         psim_error_set(rd->err, "%s:%ld: lines end in CR alone (old Mac line ends), not LF "
                        "or CR LF: convert the file, e.g. tr '\\r' '\\n' < OLD > NEW",
                        rd->name, rd->line + 1);
         return -2;
     }
-    if (len > MAX_LINE) {
-        psim_error_set(rd->err, "%s:%ld: line longer than %d bytes: binary data, not a "
-                       "scene?", rd->name, rd->line + 1, MAX_LINE);
+    if (len > rd->max) {
+        psim_error_set(rd->err, "%s:%ld: line longer than %zu bytes: binary data, not a "
+                       "scene?", rd->name, rd->line + 1, rd->max);
         return -2;
     }
     memcpy(rd->buf, rd->chunk + rd->pos, len);
@@ -199,6 +206,18 @@ static int parse_double(const char **s, double *out)
     if (end == *s || (*end && !isspace((unsigned char)*end)))
         return -1;
     *out = v;
+    *s = end;
+    return 0;
+}
+
+/* The value of the restart file's column c at *s (after spaces), as the
+ * model declares it; *s is left at the field. */
+static int parse_column(const psim_restart *rs, int c, const char **s, double *out)
+{
+    *s += strspn(*s, " \t");
+    const char *end = psim_restart_scan(&rs->colspec[c], *s, 0, out);
+    if (!end || (*end && !isspace((unsigned char)*end)))
+        return -1;
     *s = end;
     return 0;
 }
@@ -329,10 +348,10 @@ static int read_particle(reader *rd, psim_scene *sc, unsigned char *seen,
     const psim_restart *rs = &sc->restart;
     double extra[PSIM_RESTART_COLS];
     for (int c = 0; c < rs->ncols; c++)
-        if (parse_double(&s, &extra[c]) || !isfinite(extra[c])) {
-            psim_error_set(err, "%s:%ld: particle %ld: missing or malformed %s (column %d "
-                           "of the restart header's columns)",
-                           rd->name, rd->line, id, rs->colname[c], c + 1);
+        if (parse_column(rs, c, &s, &extra[c])) {
+            char what[256];
+            psim_restart_field_error(rs, c, id, s, what, sizeof what);
+            psim_error_set(err, "%s:%ld: %s", rd->name, rd->line, what);
             return -1;
         }
     if (!only_space(s)) {
@@ -414,7 +433,8 @@ static int parse_piece(const block_job *j, const char *p, const char *b, long li
                 return -1;
             while (sep(*p))
                 p++;
-            p = psim_scan_double_padded(p, &v[f]);
+            p = f < 4 ? psim_scan_double_padded(p, &v[f])
+                      : psim_restart_scan(&sc->restart.colspec[f - 4], p, 1, &v[f]);
             if (!p || !field_end(p, lim) || !isfinite(v[f]))
                 return -1;
         }
@@ -560,29 +580,38 @@ static int read_mode(reader *rd, psim_scene *sc)
 
 /* A restart file's first line, "#psim restart 1 ...": read into
  * sc->restart; any other first line is left for the header. */
-static int read_restart_line(reader *rd, psim_scene *sc, psim_error *err)
+static int read_restart_line(reader *rd, psim_scene *sc, psim_restart_schema_fn schema,
+                             psim_error *err)
 {
+    rd->max = MAX_FIRST_LINE;
     char *s = next_line(rd);
+    rd->max = MAX_LINE;
     if (!s)
         return rd->failed ? -1 : 0;
+    if (s[0] != '#' && strlen(s) > MAX_LINE) {   /* (as any other line) */
+        psim_error_set(err, "%s:%ld: line longer than %d bytes: binary data, not a scene?",
+                       rd->name, rd->line, MAX_LINE);
+        return -1;
+    }
     if (s[0] != '#') {
         rd->pushed = 1;
         return 0;
     }
-    return psim_restart_header(sc, chomp(s), rd->name, rd->line, err);
+    return psim_restart_header(sc, chomp(s), rd->name, rd->line, schema, err);
 }
 
-int psim_scene_read_stream(FILE *f, const char *name, psim_scene *sc,
-                           psim_error *err)
+int psim_io_scene_read_stream(FILE *f, const char *name, psim_restart_schema_fn schema,
+                              psim_scene *sc, psim_error *err)
 {
-    reader rd = {.f = f, .name = name, .err = err, .size = -1, .cap = block_bytes};
+    reader rd = {.f = f, .name = name, .err = err, .size = -1, .cap = block_bytes,
+                 .max = MAX_LINE};
     struct stat st;
     if (fstat(fileno(f), &st) == 0 && S_ISREG(st.st_mode))
         rd.size = (long long)st.st_size;
     unsigned char *seen = NULL;
     memset(sc, 0, sizeof *sc);
     int rc = -1;
-    if (read_restart_line(&rd, sc, err) || read_header(&rd, sc, err) ||
+    if (read_restart_line(&rd, sc, schema, err) || read_header(&rd, sc, err) ||
         (!sc->restart.present && read_mode(&rd, sc)) ||
         (sc->restart.present && psim_restart_alloc_columns(sc, err)))
         goto done;
@@ -640,14 +669,15 @@ done:
     return rc;
 }
 
-int psim_scene_read(const char *path, psim_scene *sc, psim_error *err)
+int psim_io_scene_read(const char *path, psim_restart_schema_fn schema, psim_scene *sc,
+                       psim_error *err)
 {
     FILE *f = fopen(path, "r");
     if (!f) {
         psim_error_set(err, "%s: cannot open: %s", path, strerror(errno));
         return -1;
     }
-    int rc = psim_scene_read_stream(f, path, sc, err);
+    int rc = psim_io_scene_read_stream(f, path, schema, sc, err);
     fclose(f);
     return rc;
 }

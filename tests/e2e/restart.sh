@@ -136,7 +136,7 @@ expect_fail --rc 1 "bad1.rs:1: restart header: unknown key 'colour'" "$PSIM" "$t
 expect_fail --rc 1 "bad2.rs:1: restart header: expected '#psim restart 1" "$PSIM" "$tmp/bad2.rs"
 { head -5 "$rs"; sed -n 6p "$rs" | cut -d' ' -f1-8; tail -n +7 "$rs"; } >"$tmp/bad3.rs"
 expect_fail --rc 1 "bad3.rs:6: particle" "$PSIM" "$tmp/bad3.rs" --final "$tmp/never.txt"
-[[ $FAIL_LINE == *"missing or malformed cell_x"* ]] || fail "bad3: $FAIL_LINE"
+[[ $FAIL_LINE == *"missing cell_x (field 9)"* ]] || fail "bad3: $FAIL_LINE"
 { echo "#psim restart 1 step=3"; tail -n +2 "$rs"; } >"$tmp/bad4.rs"
 expect_fail --rc 1 "bad4.rs:1: restart header: missing 'model=NAME'" "$PSIM" "$tmp/bad4.rs"
 sed '1s/$/ step=4/' "$rs" >"$tmp/bad5.rs"

@@ -3,6 +3,7 @@
  * from the model's own checker), and the result is the same for any thread
  * count and for any number of tiles' worth of threads. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -90,9 +91,41 @@ static void test_taking(void)
     }
 }
 
+/* A restart scene made by the library's caller, not read from a file: its
+ * model's columns are held to their kinds and ranges all the same (the
+ * ccd model converts its counts to integers). */
+static void test_restart_columns(void)
+{
+    static const char text[] = "#psim restart 1 model=ccd step=2 "
+                               "columns=pair_collisions,wall_collisions\n"
+                               "2\n10\n1\n5\n0 2 2 1 0 3 1\n1 7 7 0 0 0 4\n";
+    static const double bad[] = {1e23, 2.5, -1, NAN, INFINITY, 9007199254740994.0};
+    for (size_t k = 0; k <= sizeof bad / sizeof bad[0]; k++) {
+        FILE *f = fmemopen((void *)text, sizeof text - 1, "r");
+        psim_scene sc;
+        psim_error err = {{0}, 0};
+        CHECK(psim_scene_read_stream(f, "r.in", &sc, &err) == 0);
+        fclose(f);
+        if (k < sizeof bad / sizeof bad[0])
+            sc.restart.col[1][1] = bad[k];
+        psim_config cfg;
+        psim_config_default(&cfg);
+        psim_sim *s = psim_create(&sc, &cfg, &err);
+        if (k == sizeof bad / sizeof bad[0])
+            CHECK_MSG(s != NULL, "the file as read: %s", err.msg);
+        else
+            CHECK_MSG(!s && strstr(err.msg, "r.in:7: particle 1: wall_collisions ") &&
+                          strstr(err.msg, "is not a whole number in [0, 9007199254740992]"),
+                      "wall_collisions %g: %s", bad[k], s ? "accepted" : err.msg);
+        psim_destroy(s);
+        psim_scene_free(&sc);
+    }
+}
+
 int main(void)
 {
     test_taking();
+    test_restart_columns();
     /* dense, all velocities positive: the corner pile-up, with disks
      * leaving the box */
     psim_gen_params p = {.n = 800, .r = 1, .steps = 0, .vmin = 0.2, .vmax = 0.6,

@@ -122,7 +122,10 @@ static int read_mem(const char *text, size_t len, psim_scene *sc, psim_error *er
 static int same_scene(const psim_scene *a, const psim_scene *b)
 {
     size_t d = (size_t)a->n * sizeof(double);
-    return a->n == b->n && a->L == b->L && a->r == b->r && a->steps == b->steps &&
+    int cols = a->restart.ncols == b->restart.ncols;
+    for (int c = 0; cols && c < a->restart.ncols; c++)
+        cols = memcmp(a->restart.col[c], b->restart.col[c], d) == 0;
+    return cols && a->n == b->n && a->L == b->L && a->r == b->r && a->steps == b->steps &&
            a->format == b->format && a->print == b->print && a->generated == b->generated &&
            memcmp(a->x, b->x, d) == 0 && memcmp(a->y, b->y, d) == 0 &&
            memcmp(a->vx, b->vx, d) == 0 && memcmp(a->vy, b->vy, d) == 0 &&
@@ -307,12 +310,72 @@ static void test_block_reader(void)
     free(text);
 }
 
+/* A restart file's own columns, read as their model declares them: the
+ * same values or the same error both ways; integer columns refuse what is
+ * not a whole number in range, and say where. */
+static void test_restart_columns(void)
+{
+    lines L = {malloc(2005 * sizeof(char *)), 2005};
+    L.l[0] = strdup("#psim restart 1 model=ccd step=3 columns=pair_collisions,wall_collisions");
+    L.l[1] = strdup("2000"), L.l[2] = strdup("300"), L.l[3] = strdup("1"), L.l[4] = strdup("5");
+    for (long i = 0; i < 2000; i++) {
+        char b[96];
+        snprintf(b, sizeof b, "%ld %.17g 7.5 -0.25 0.5 %ld %ld", i, 1.5 + 0.14 * (double)i,
+                 i * 1000003 % 9007199254740993, i % 3);
+        L.l[5 + i] = strdup(b);
+    }
+    size_t tl;
+    char *t = join(&L, "\n", 1, &tl);
+    same_both_ways(t, tl, "a restart file with columns");
+    psim_scene sc;
+    psim_error err = {{0}, 0};
+    CHECK(read_mem(t, tl, &sc, &err) == 0);
+    CHECK(sc.restart.ncols == 2 && sc.restart.col[0][1999] == 1999.0 * 1000003 &&
+          sc.restart.col[1][1999] == 1);
+    psim_scene_free(&sc);
+    free(t);
+    static const char *ok[] = {"5 1 1 0 0 9007199254740992 0", "5 1 1 0 0 +7 007",
+                               "5 1 1 0 0 -0 0"};
+    static const char *bad[] = {"5 1 1 0 0 2.5 0", "5 1 1 0 0 1e23 0", "5 1 1 0 0 -1 0",
+                                "5 1 1 0 0 9007199254740993 0", "5 1 1 0 0 x 0",
+                                "5 1 1 0 0 0", "5 1 1 0 0 0 0 0", "5 1 1 0 0 1.0 0",
+                                "5 1 1 0 0 0 99999999999999999999"};
+    const long at[] = {5, 2004};
+    for (size_t k = 0; k < sizeof at / sizeof at[0]; k++) {
+        for (size_t b = 0; b < sizeof ok / sizeof ok[0]; b++)
+            with_line(&L, at[k], ok[b], ok[b]);
+        for (size_t b = 0; b < sizeof bad / sizeof bad[0]; b++)
+            with_line(&L, at[k], bad[b], bad[b]);
+    }
+    lines M = L;
+    M.l = malloc((size_t)L.n * sizeof(char *));
+    memcpy(M.l, L.l, (size_t)L.n * sizeof(char *));
+    M.l[1505] = "1500 1 1 0 0 2.5 0";
+    t = join(&M, "\n", 1, &tl);
+    CHECK(read_mem(t, tl, &sc, &err) != 0);
+    CHECK_MSG(strstr(err.msg, "t.in:1506: particle 1500: pair_collisions (field 6) must be a "
+                              "whole number in 0..9007199254740992, got '2.5'") != NULL,
+              "%s", err.msg);
+    free(t);
+    free(M.l);
+    free_lines(&L);
+    expect_error("#psim restart 1 model=ccd step=3 columns=pair_collisions\n1\n10\n1\n5\n"
+                 "0 1 1 0 0 0\n", "t.in:1:", "missing column 'wall_collisions'");
+    expect_error("#psim restart 1 model=ccd step=3 columns=pair_collisions,wall_collisions,x\n"
+                 "1\n10\n1\n5\n0 1 1 0 0 0 0 0\n", "t.in:1:", "unknown column 'x'");
+    expect_error("\n#psim restart 1 model=ccd step=3 columns=pair_collisions,wall_collisions\n"
+                 "1\n10\n1\n5\n0 1 1 0 0 0 -3\n", "t.in:7:", "wall_collisions (field 7)");
+    expect_error("\n\n#psim restart 1 model=discrete step=3 options=settle=0\n1\n10\n1\n5\n"
+                 "0 1 1 0 0\n", "t.in:3:", "option settle");
+}
+
 int main(void)
 {
     test_read_ok();
     test_read_errors();
     test_generate_roundtrip();
     test_block_reader();
+    test_restart_columns();
     printf("%ld reads compared with the line-by-line reader\n", both_ways_runs);
     return check_done();
 }

@@ -135,7 +135,11 @@ static int overlaps_wall(const psim_sim *e, const psim_scene *sc, psim_error *er
 }
 
 /* Restart files carry each disk's collision counts, which the authors'
- * program prints with the last step. */
+ * program prints with the last step: whole numbers from 0 up to 2^53 (the
+ * largest below which every integer is a double, as the columns are
+ * kept; a disk collides at most a few times a step, and runs have at most
+ * 10^9 steps). */
+#define CCD_COUNT_MAX 9007199254740992.0
 static void restart_save(const psim_sim *e, const void *p, int k, double *by_id)
 {
     const cmodel *m = p;
@@ -371,7 +375,8 @@ const psim_model psim_model_ccd = {
     .interact = interact,
     .check = ccd_check,
     .write_state = write_state,
-    .restart_cols = {"pair_collisions", "wall_collisions", NULL},
+    .restart_cols = {{"pair_collisions", 1, 0, CCD_COUNT_MAX},
+                     {"wall_collisions", 1, 0, CCD_COUNT_MAX}},
     .restart_save = restart_save,
     .step_summary = step_summary,
     .destroy = destroy,

@@ -1,6 +1,7 @@
 /* The event model behind the model interface: the disks' states and
  * cells, the start (no overlaps allowed), a step as the events up to the
  * next whole time, and the state at that time written to the store. */
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -149,15 +150,49 @@ static void restart_save(const psim_sim *e, const void *p, int k, double *by_id)
     }
 }
 
-/* The disks at their own times, if sc is this model's restart file with
- * all its columns (checked for overlaps at the file's time before). */
-static void restart_load(psim_sim *e, const psim_scene *sc, emodel *m)
+/* What the reader cannot know of disk i's columns c (each of its kind
+ * and in its range already): its own time is not after the file's, its
+ * cell is one of the grid's and that of its position at the file's time
+ * but for round-off (crossings are events: a centre just past a side may
+ * not have crossed yet), its last partner another disk.  0, or 1 with
+ * err set to "FILE:LINE: disk I: ...". */
+static int restart_disk_bad(const psim_sim *e, const psim_scene *sc, const emodel *m,
+                            const double *const *c, long i, psim_error *err)
+{
+    char at[320];
+    const double cx = c[ER_CX][i], cy = c[ER_CY][i], last = c[ER_LAST][i];
+    const int px = cell_of(m, e->st.x[i]), py = cell_of(m, e->st.y[i]);
+    psim_scene_where(sc, i, at, sizeof at);
+    if (c[ER_T][i] > (double)e->step)
+        psim_error_set(err, "%sdisk %ld: t_own %.17g is after the file's step=%ld", at, i,
+                       c[ER_T][i], e->step);
+    else if (cx >= m->G || cy >= m->G)
+        psim_error_set(err, "%sdisk %ld: cell_x, cell_y (%.0f, %.0f) is outside the event "
+                            "model's %d x %d cells", at, i, cx, cy, m->G, m->G);
+    else if (fabs(cx - px) > 1 || fabs(cy - py) > 1)
+        psim_error_set(err, "%sdisk %ld: cell_x, cell_y (%.0f, %.0f) is not the cell of its "
+                            "position, (%d, %d)", at, i, cx, cy, px, py);
+    else if (last >= (double)m->n || last == (double)i)
+        psim_error_set(err, "%sdisk %ld: last %.0f is not another disk (0..%ld, or -1 for "
+                            "none)", at, i, last, m->n - 1);
+    else
+        return 0;
+    return 1;
+}
+
+/* The disks at their own times, if sc is this model's restart file (the
+ * reader requires all its columns; checked for overlaps at the file's
+ * time before).  0, or -1 with err set. */
+static int restart_load(psim_sim *e, const psim_scene *sc, emodel *m, psim_error *err)
 {
     const double *c[ER_COLS];
     double k0;
     for (int k = 0; k < ER_COLS; k++)
         if (!(c[k] = psim_engine_restart_column(e, sc, restart_names[k])))
-            return;
+            return 0;
+    for (long i = 0; i < m->n; i++)
+        if (restart_disk_bad(e, sc, m, c, i, err))
+            return -1;
     /* the sums go on too (the thermo's pressure is their change) */
     if (psim_engine_restart_value(e, sc, "virial", &m->virial) ||
         psim_engine_restart_value(e, sc, "wall_impulse", &m->wall_impulse) ||
@@ -172,11 +207,11 @@ static void restart_load(psim_sim *e, const psim_scene *sc, emodel *m)
         edisk *d = &m->d[i];
         event_cell_remove(m, (int32_t)i);
         d->t = c[ER_T][i], d->x = c[ER_X][i], d->y = c[ER_Y][i];
-        d->cx = c[ER_CX][i] >= 0 && c[ER_CX][i] < m->G ? (int32_t)c[ER_CX][i] : cell_of(m, d->x);
-        d->cy = c[ER_CY][i] >= 0 && c[ER_CY][i] < m->G ? (int32_t)c[ER_CY][i] : cell_of(m, d->y);
-        d->last = c[ER_LAST][i] >= 0 && c[ER_LAST][i] < (double)m->n ? (int32_t)c[ER_LAST][i] : -1;
+        d->cx = (int32_t)c[ER_CX][i], d->cy = (int32_t)c[ER_CY][i];
+        d->last = (int32_t)c[ER_LAST][i];
         event_cell_insert(m, (int32_t)i);
     }
+    return 0;
 }
 
 /* The smallest radius the model takes, relative to the box and absolute.
@@ -250,7 +285,10 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
      * file's own-time columns are checked too) */
     m->now = (double)e->step;
     e->stats.value[EV_KINETIC0] = e->stats.value[EV_KINETIC] = kinetic(m);
-    restart_load(e, sc, m);
+    if (restart_load(e, sc, m, err)) {
+        destroy(m);
+        return NULL;
+    }
     if ((i = first_outside(m)) >= 0) {
         char at[320];
         psim_scene_where(sc, i, at, sizeof at);
@@ -360,7 +398,13 @@ const psim_model psim_model_event = {
     .output = {.final = 1},
     .output_digits = -1,
     .sorts_itself = 1,
-    .restart_cols = {"t_own", "x_own", "y_own", "cell_x", "cell_y", "last", NULL},
+    /* (the model checks what depends on the scene: restart_disk_bad) */
+    .restart_cols = {{"t_own", 0, 0, PSIM_MAX_STEPS},
+                     {"x_own", 0, -DBL_MAX, DBL_MAX},
+                     {"y_own", 0, -DBL_MAX, DBL_MAX},
+                     {"cell_x", 1, 0, INT32_MAX},
+                     {"cell_y", 1, 0, INT32_MAX},
+                     {"last", 1, -1, INT32_MAX - 1}},
     .restart_save = restart_save,
     .options = {{"calendar", "1: Paul's calendar (buckets, the current one sorted; default); "
                              "0: one binary heap (the baseline)", 0, 1, 1},
