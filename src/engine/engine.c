@@ -282,6 +282,9 @@ psim_sim *psim_engine_create(psim_scene *sc, const psim_config *cfg,
     }
     if (parse_options(e, cfg->options, err))
         goto fail;
+    /* before any memory is taken for a scene the model cannot run */
+    if (psim_engine_limits(e, sc, err))
+        goto fail;
     if (psim_engine_restart_init(e, sc)) {
         psim_error_set(err, "out of memory for %ld particles", sc->n);
         goto fail;
