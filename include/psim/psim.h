@@ -268,9 +268,9 @@ void psim_destroy(psim_sim *s);
 /* The state's totals, in id order (unit masses): kinetic energy
  * (1/2) sum (vx^2 + vy^2), momentum (sum vx, sum vy), and the pairs of
  * disks whose centres are closer than 2r; the box's area L^2 (infinite
- * past a side of about 1.3e154: divide by L twice then).  Sums that
- * overflow are taken again in units of a power of two, so they are finite
- * whenever their true value is a double. */
+ * past a side of about 1.3e154: divide by L twice then).  A kinetic
+ * energy whose sum overflows is summed again in units of a power of two,
+ * so it is finite whenever its true value is a double. */
 typedef struct psim_thermo {
     long step;
     double ke, px, py, area;

@@ -15,12 +15,16 @@ void thermo_init(cli_thermo *t, long every)
 
 /* The columns of a row: the engine's totals, the model's counters since
  * the last row, the pressure where the model keeps a collision virial. */
-static void header(cli_thermo *t, const psim_sim *s)
+static void columns(cli_thermo *t, const psim_sim *s)
 {
-    static const char *const base[] = {"step", "ke", "px", "py"};
     for (t->ncols = 0; t->ncols < PSIM_THERMO_MAX && psim_thermo_column(s, t->ncols); t->ncols++)
         t->col[t->ncols] = psim_thermo_column(s, t->ncols);
     t->pressure = !isnan(psim_value(s, "virial"));
+}
+
+static void header(cli_thermo *t)
+{
+    static const char *const base[] = {"step", "ke", "px", "py"};
     for (int k = 0; k < 4; k++) {
         if (t->table)
             fprintf(t->table, k ? " %14s" : "%10s", base[k]);
@@ -76,7 +80,9 @@ static void too_large(const cli_thermo *t, long step, const char *what, psim_err
                    t->table ? "--thermo" : "--thermo-file", step, what, DBL_MAX);
 }
 
-static int row(cli_thermo *t, const psim_sim *s, psim_error *err)
+/* A row (after the header, first), measured whole before any of it is
+ * written: a failure leaves nothing half written. */
+static int row(cli_thermo *t, const psim_sim *s, int first, psim_error *err)
 {
     psim_thermo th;
     int rc = psim_thermo_measure(s, &th);
@@ -86,13 +92,14 @@ static int row(cli_thermo *t, const psim_sim *s, psim_error *err)
         psim_error_set(err, "out of memory for --thermo");
     if (rc)
         return -1;
-    /* every number of the row before any of it is written */
     double w = t->pressure ? psim_value(s, "virial") : 0,
            p = t->pressure ? pressure(t, &th, w) : NAN;
     if (t->pressure && !isnan(p) && !isfinite(p)) {
         too_large(t, th.step, "pressure", err);
         return -1;
     }
+    if (first)
+        header(t);
     if (t->table)
         fprintf(t->table, "%10ld %14.8g %14.6g %14.6g", th.step, th.ke, th.px, th.py);
     if (t->csv) {
@@ -136,10 +143,10 @@ int thermo_start(cli_thermo *t, psim_sim *s, FILE *table, FILE *csv, psim_error 
     t->table = table, t->csv = csv;
     t->last_step = psim_step_index(s);
     t->last_virial = psim_value(s, "virial");
-    header(t, s);
+    columns(t, s);
     for (int k = 0; k < t->ncols; k++)
         t->last[k] = psim_counter(s, t->col[k]);
-    int rc = row(t, s, err);
+    int rc = row(t, s, 1, err);
     psim_add_output_time(s, psim_now() - t0);
     return rc;
 }
@@ -154,7 +161,7 @@ int thermo_step(cli_thermo *t, psim_sim *s, long k, long steps, psim_error *err)
     if (!thermo_due(t, k, steps))
         return 0;
     double t0 = psim_now();
-    int rc = row(t, s, err);
+    int rc = row(t, s, 0, err);
     if (t->table)
         fflush(t->table);
     psim_add_output_time(s, psim_now() - t0);

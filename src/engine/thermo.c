@@ -107,41 +107,33 @@ out:
     return found;
 }
 
-/* The sums again where one overflowed (velocities near 1e154 and above,
- * or a momentum whose partial sums pass the largest double): in units of
- * a power of two at or above the largest component, as --check sums
- * energies, then scaled back; a sum that is still not finite is beyond
- * the largest double, named in t->too_large.  The plain sums are kept
- * where they are finite: the same bytes as ever for ordinary scenes. */
-static void rescale_sums(const psim_cols *c, long n, psim_thermo *t)
+/* The kinetic energy again where its plain sum overflowed (velocities
+ * near 1e154 and above): in units of a power of two at or above the
+ * largest component, as --check sums energies, then scaled back; still
+ * not finite only when the energy itself is beyond the largest double
+ * (t->too_large names it).  The plain sum is kept wherever it is finite:
+ * the same bytes as ever for ordinary scenes.  (Momentum cannot overflow
+ * then: every |v| is below 2e154.) */
+static void rescale_ke(const psim_cols *c, long n, psim_thermo *t)
 {
     double m = 0;
     for (long i = 0; i < n; i++) {
         double u = fabs(c->vx[c->at[i]]), w = fabs(c->vy[c->at[i]]);
         if (!(u <= DBL_MAX && w <= DBL_MAX))
-            return;   /* the state itself is not finite: not a sum's fault */
+            return;   /* the state itself is not finite: not the sum's fault */
         m = fmax(m, fmax(u, w));
     }
     int ex;
     frexp(m, &ex);
     const double k = ldexp(1.0, -ex);   /* exact, as a power of two */
-    double ke = 0, px = 0, py = 0;
+    double ke = 0;
     for (long i = 0; i < n; i++) {   /* in id order */
         double vx = c->vx[c->at[i]] * k, vy = c->vy[c->at[i]] * k;
         ke += 0.5 * (vx * vx + vy * vy);
-        px += vx;
-        py += vy;
     }
+    t->ke = ldexp(ke, 2 * ex);
     if (!isfinite(t->ke))
-        t->ke = ldexp(ke, 2 * ex);
-    if (!isfinite(t->px))
-        t->px = ldexp(px, ex);
-    if (!isfinite(t->py))
-        t->py = ldexp(py, ex);
-    t->too_large = !isfinite(t->ke) ? "kinetic energy (half the sum of vx^2 + vy^2)"
-                 : !isfinite(t->px) ? "momentum px (the sum of vx)"
-                 : !isfinite(t->py) ? "momentum py (the sum of vy)"
-                                    : NULL;
+        t->too_large = "kinetic energy (half the sum of vx^2 + vy^2)";
 }
 
 int psim_thermo_measure(const psim_sim *e, psim_thermo *t)
@@ -161,8 +153,8 @@ int psim_thermo_measure(const psim_sim *e, psim_thermo *t)
         t->px += vx;
         t->py += vy;
     }
-    if (!isfinite(t->ke) || !isfinite(t->px) || !isfinite(t->py))
-        rescale_sums(&c, n, t);
+    if (!isfinite(t->ke))
+        rescale_ke(&c, n, t);
     t->overlaps = t->too_large ? 0 : count_overlaps(&c, n, e->L, e->r);
     psim_state_cols_free(&c);
     return t->overlaps < 0 ? -1 : t->too_large ? -2 : 0;
