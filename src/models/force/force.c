@@ -108,13 +108,39 @@ static int law_limits(const psim_sim *e, const psim_scene *sc, psim_error *err)
     return 0;
 }
 
+/* A particle whose first move takes it more than FLAW_MAX_BOUNCES + 4
+ * box sides away, whatever the forces of the first step do to it (at most
+ * n pairs' largest velocity change each), would leave the box for good at
+ * step 1 (law.h): refused now, naming its line.  0, or -1. */
+static int leaves_box(const psim_sim *e, const psim_scene *sc, psim_error *err)
+{
+    flaw k;
+    set_law(&k, e, sc);
+    const double min_r = sqrt(k.min_r2);
+    const double kick = fabs((1 - k.cutoff / min_r) / k.min_r2 / k.mass) * min_r * k.dt;
+    const double most = (FLAW_MAX_BOUNCES + 4) * k.size, slack = (double)sc->n * kick * k.dt;
+    for (long i = 0; i < sc->n; i++) {
+        double v = fmax(fabs(sc->vx[i]), fabs(sc->vy[i])), p = fmax(fabs(sc->x[i]), fabs(sc->y[i]));
+        if (!(v * k.dt - slack > most + p))
+            continue;
+        char at[320];
+        psim_scene_where(sc, i, at, sizeof at);
+        psim_error_set(err, "%sdisk %ld moves %g a step (v dt, dt %g): too large for the force "
+                            "model in a box of L = %g: past %d box sides its reflections off "
+                            "the walls (at most %d a step) cannot bring it back",
+                       at, i, v * k.dt, k.dt, k.size, FLAW_MAX_BOUNCES + 4, FLAW_MAX_BOUNCES);
+        return -1;
+    }
+    return 0;
+}
+
 static int limits(const psim_sim *e, const psim_scene *sc, psim_limits *lim, psim_error *err)
 {
     lim->at[PSIM_LIMIT_BOX] = (psim_limit){FORCE_MAX_LENGTH,
                                            "its reflections off the walls (2L - x)"};
     lim->at[PSIM_LIMIT_POSITION] = (psim_limit){FORCE_MAX_LENGTH,
                                                 "its reflections off the walls (2L - x)"};
-    return law_limits(e, sc, err);
+    return law_limits(e, sc, err) || leaves_box(e, sc, err) ? -1 : 0;
 }
 
 /* Tiles for the threads: the sums do not depend on the tiles (each
