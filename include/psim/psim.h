@@ -280,13 +280,19 @@ void psim_destroy(psim_sim *s);
 
 /* The state's totals, in id order (unit masses): kinetic energy
  * (1/2) sum (vx^2 + vy^2), momentum (sum vx, sum vy), and the pairs of
- * disks whose centres are closer than 2r; the box's area L^2. */
+ * disks whose centres are closer than 2r; the box's area L^2 (infinite
+ * past a side of about 1.3e154: divide by L twice then).  A kinetic
+ * energy whose sum overflows is summed again in units of a power of two,
+ * so it is finite whenever its true value is a double. */
 typedef struct psim_thermo {
     long step;
     double ke, px, py, area;
+    double side;            /* L */
     long overlaps;
+    const char *too_large;  /* the total beyond the largest double, or NULL */
 } psim_thermo;
-/* 0, or -1 without memory. */
+/* 0, -1 without memory, or -2 when a total is beyond the largest double
+ * (too_large names it). */
 int psim_thermo_measure(const psim_sim *s, psim_thermo *t);
 /* The model's thermo columns (names of its counters, shown as the change
  * since the previous row): the k-th, or NULL after the last. */

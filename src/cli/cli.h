@@ -143,9 +143,13 @@ typedef struct cli_thermo {
 
 void thermo_init(cli_thermo *t, long every);
 /* The header and the row of the state before the first step; then after
- * step k of steps.  0, or -1 without memory. */
-int thermo_start(cli_thermo *t, psim_sim *s, FILE *table, FILE *csv);
-int thermo_step(cli_thermo *t, psim_sim *s, long k, long steps);
+ * step k of steps.  0, or -1 with err set: no memory, or a total beyond
+ * the largest double (a state whose squared speeds overflow is summed
+ * in units of a power of two: only a total that no double holds fails). */
+int thermo_start(cli_thermo *t, psim_sim *s, FILE *table, FILE *csv, psim_error *err);
+int thermo_step(cli_thermo *t, psim_sim *s, long k, long steps, psim_error *err);
+/* Whether step k of steps has a row. */
+int thermo_due(const cli_thermo *t, long k, long steps);
 
 /* The same progress for one read or write that takes more than a second
  * (psim_set_io_progress): on a terminal the bar, "[####  ] reading s.in:

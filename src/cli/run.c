@@ -651,17 +651,17 @@ static int simulate(const run_opts *o, psim_sim *s, const psim_scene *sc,
         set_write_failed(err, o->dump);
         rc = -1;
     }
-    if (rc == 0 && thermo_start(&rs->th, s, o->quiet ? NULL : stderr, rs->thermo.f)) {
-        psim_error_set(err, "out of memory for --thermo");
+    if (rc == 0 && thermo_start(&rs->th, s, o->quiet ? NULL : stderr, rs->thermo.f, err))
         rc = -1;
-    }
     if (rs->out.f && (psim_write_header(s, rs->out.f) ||
                       (rs->style.initial && write_out(o, s, &rs->out, first, 0)))) {
         set_write_failed(err, rs->out.name);
         rc = -1;
     }
     /* A state that overflowed is found at the step it happened: states
-     * written every step are checked every step; otherwise as often as
+     * written every step are checked every step, and the states of thermo
+     * rows (whose sums a state that is not finite would make infinite,
+     * not too large); otherwise as often as
      * costs about 1% of the steps' time (a check reads the whole state,
      * so every step where a step is cheap, every few where it is not),
      * and the final state in any case; a state found not finite after
@@ -681,7 +681,8 @@ static int simulate(const run_opts *o, psim_sim *s, const psim_scene *sc,
         steps_s += psim_now() - t0;
         /* (under --check the engine has checked this state already) */
         if (!cfg->check &&
-            (each || k == last || (every ? k % every == 0 : 0.01 * steps_s >= check_s))) {
+            (each || k == last || thermo_due(&rs->th, k, last) ||
+             (every ? k % every == 0 : 0.01 * steps_s >= check_s))) {
             double t1 = psim_now();
             if (finite_since(o, s, sc, cfg, checked, err)) {
                 rc = -1;
@@ -691,10 +692,9 @@ static int simulate(const run_opts *o, psim_sim *s, const psim_scene *sc,
         }
         if (write_step(o, s, k, last, rs, err) || checkpoint(o, s, rs, k, last, err))
             rc = -1;
-        else if (thermo_step(&rs->th, s, k, last)) {
-            psim_error_set(err, "out of memory for --thermo");
+        else if (thermo_step(&rs->th, s, k, last, err))
             rc = -1;
-        } else
+        else
             progress_update(&pb, k - first);
     }
     progress_done(&pb); /* also on failure: the error line starts clean */

@@ -1,5 +1,6 @@
 /* --thermo N: the state's totals every N steps, as LAMMPS' thermo output
  * and HOOMD's loggers: a table on stderr and, with --thermo-file, CSV. */
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
@@ -14,12 +15,16 @@ void thermo_init(cli_thermo *t, long every)
 
 /* The columns of a row: the engine's totals, the model's counters since
  * the last row, the pressure where the model keeps a collision virial. */
-static void header(cli_thermo *t, const psim_sim *s)
+static void columns(cli_thermo *t, const psim_sim *s)
 {
-    static const char *const base[] = {"step", "ke", "px", "py"};
     for (t->ncols = 0; t->ncols < PSIM_THERMO_MAX && psim_thermo_column(s, t->ncols); t->ncols++)
         t->col[t->ncols] = psim_thermo_column(s, t->ncols);
     t->pressure = !isnan(psim_value(s, "virial"));
+}
+
+static void header(cli_thermo *t)
+{
+    static const char *const base[] = {"step", "ke", "px", "py"};
     for (int k = 0; k < 4; k++) {
         if (t->table)
             fprintf(t->table, k ? " %14s" : "%10s", base[k]);
@@ -52,11 +57,49 @@ static void csv_num(FILE *f, double v)
     fprintf(f, ",%s", b);
 }
 
-static int row(cli_thermo *t, const psim_sim *s)
+/* The pressure over the interval since the last row, 2D, unit masses:
+ * P A = K + W / (2 dt) (K = N kT); NAN for the first row.  Where the area
+ * L^2 or the sum overflows, each term is divided by L twice: infinite
+ * then only when the pressure itself is beyond the largest double. */
+static double pressure(const cli_thermo *t, const psim_thermo *th, double w)
+{
+    double dt = (double)(th->step - t->last_step);
+    if (!(dt > 0))
+        return NAN;
+    double p = (th->ke + (w - t->last_virial) / (2 * dt)) / th->area;
+    if (isfinite(p))
+        return p;
+    return th->ke / th->side / th->side + (w - t->last_virial) / (2 * dt) / th->side / th->side;
+}
+
+/* A row's total that no double holds: one line naming it. */
+static void too_large(const cli_thermo *t, long step, const char *what, psim_error *err)
+{
+    psim_error_set(err, "%s: step %ld: the %s is too large for a double (above %g), so no "
+                        "row can hold it",
+                   t->table ? "--thermo" : "--thermo-file", step, what, DBL_MAX);
+}
+
+/* A row (after the header, first), measured whole before any of it is
+ * written: a failure leaves nothing half written. */
+static int row(cli_thermo *t, const psim_sim *s, int first, psim_error *err)
 {
     psim_thermo th;
-    if (psim_thermo_measure(s, &th))
+    int rc = psim_thermo_measure(s, &th);
+    if (rc == -2)
+        too_large(t, th.step, th.too_large, err);
+    else if (rc)
+        psim_error_set(err, "out of memory for --thermo");
+    if (rc)
         return -1;
+    double w = t->pressure ? psim_value(s, "virial") : 0,
+           p = t->pressure ? pressure(t, &th, w) : NAN;
+    if (t->pressure && !isnan(p) && !isfinite(p)) {
+        too_large(t, th.step, "pressure", err);
+        return -1;
+    }
+    if (first)
+        header(t);
     if (t->table)
         fprintf(t->table, "%10ld %14.8g %14.6g %14.6g", th.step, th.ke, th.px, th.py);
     if (t->csv) {
@@ -72,9 +115,6 @@ static int row(cli_thermo *t, const psim_sim *s)
             fprintf(t->csv, ",%llu", (unsigned long long)d);
     }
     if (t->pressure) {
-        /* 2D, unit masses: P A = K + W / (2 dt) over the interval (K = N kT) */
-        double w = psim_value(s, "virial"), dt = (double)(th.step - t->last_step);
-        double p = dt > 0 ? (th.ke + (w - t->last_virial) / (2 * dt)) / th.area : NAN;
         t->last_virial = w;
         if (t->table && isnan(p))
             fprintf(t->table, " %14s", "-");
@@ -95,7 +135,7 @@ static int row(cli_thermo *t, const psim_sim *s)
     return 0;
 }
 
-int thermo_start(cli_thermo *t, psim_sim *s, FILE *table, FILE *csv)
+int thermo_start(cli_thermo *t, psim_sim *s, FILE *table, FILE *csv, psim_error *err)
 {
     if (t->every <= 0)
         return 0;
@@ -103,20 +143,25 @@ int thermo_start(cli_thermo *t, psim_sim *s, FILE *table, FILE *csv)
     t->table = table, t->csv = csv;
     t->last_step = psim_step_index(s);
     t->last_virial = psim_value(s, "virial");
-    header(t, s);
+    columns(t, s);
     for (int k = 0; k < t->ncols; k++)
         t->last[k] = psim_counter(s, t->col[k]);
-    int rc = row(t, s);
+    int rc = row(t, s, 1, err);
     psim_add_output_time(s, psim_now() - t0);
     return rc;
 }
 
-int thermo_step(cli_thermo *t, psim_sim *s, long k, long steps)
+int thermo_due(const cli_thermo *t, long k, long steps)
 {
-    if (t->every <= 0 || (k % t->every != 0 && k != steps))
+    return t->every > 0 && (k % t->every == 0 || k == steps);
+}
+
+int thermo_step(cli_thermo *t, psim_sim *s, long k, long steps, psim_error *err)
+{
+    if (!thermo_due(t, k, steps))
         return 0;
     double t0 = psim_now();
-    int rc = row(t, s);
+    int rc = row(t, s, 0, err);
     if (t->table)
         fflush(t->table);
     psim_add_output_time(s, psim_now() - t0);

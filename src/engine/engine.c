@@ -324,6 +324,9 @@ psim_sim *psim_engine_create(psim_scene *sc, const psim_config *cfg,
     }
     if (parse_options(e, cfg->options, err))
         goto fail;
+    /* before any memory is taken for a scene the model cannot run */
+    if (psim_engine_limits(e, sc, err))
+        goto fail;
     if (psim_engine_restart_init(e, sc, err))
         goto fail;
     if (psim_store_init(&e->st, (size_t)sc->n)) {

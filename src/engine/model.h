@@ -39,6 +39,32 @@ typedef struct psim_model_option {
 /* The option that turns a model's skips off (tests compare the bytes). */
 #define PSIM_SKIP_OPTION {"skip", "0: never leave out a stage the scene cannot use (for tests)", 0, 1, 1}
 
+/* The largest magnitudes a model's arithmetic can carry out (its squared
+ * distances, squared speeds, products of the two, cell counts): a scene
+ * beyond one is refused before the model is made, naming the line of L,
+ * r or the disk (limits.c), instead of running into numbers that
+ * overflow in the middle of a step.  `speed` is the speed one disk may
+ * reach, S = sqrt(sum of vx^2 + vy^2 over the disks): collisions that
+ * keep the kinetic energy can give it all to one disk, so a bound on S
+ * holds for the whole run.  most 0: no bound; why names the arithmetic
+ * that would overflow past it, for the message. */
+enum {
+    PSIM_LIMIT_BOX,          /* L */
+    PSIM_LIMIT_RADIUS,       /* r */
+    PSIM_LIMIT_POSITION,     /* |x| and |y| of every disk */
+    PSIM_LIMIT_SPEED,        /* S */
+    PSIM_LIMIT_BOX_SPEED,    /* L times S */
+    PSIM_LIMIT_RADIUS_SPEED, /* r times S */
+    PSIM_LIMITS
+};
+typedef struct psim_limit {
+    double most;
+    const char *why;
+} psim_limit;
+typedef struct psim_limits {
+    psim_limit at[PSIM_LIMITS];
+} psim_limits;
+
 /* A stage a model leaves out when the scene cannot use it (psim_stats). */
 typedef struct psim_model_skip {
     const char *stage, *why;
@@ -63,6 +89,11 @@ typedef struct psim_model {
                          * order of equal keys the sort keeps): restart
                          * files list the particles in that order, not by id */
 
+    /* optional: its limits for this scene and the run's options (0), or
+     * -1 with err set where a quantity it derives from them (a force
+     * law's constant) cannot be carried out */
+    int (*limits)(const struct psim_sim *e, const psim_scene *sc, psim_limits *lim,
+                  psim_error *err);
     void *(*create)(struct psim_sim *e, const psim_scene *sc, psim_error *err);
     void (*drift)(struct psim_sim *e, void *m);                 /* optional */
     int (*interact)(struct psim_sim *e, void *m, psim_error *err);

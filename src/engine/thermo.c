@@ -2,6 +2,7 @@
  * energy, momentum and overlapping pairs, over the store in id order
  * (psim_state_cols_take), so that they do not depend on the store's order,
  * the thread count or how a run was chained (a restart sorts afresh). */
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 
@@ -27,6 +28,31 @@ static long count_pairs(const double *x, const double *y, const uint32_t *ord,
             n += dx * dx + dy * dy < d2;
         }
     return n;
+}
+
+/* The same where (2r)^2 overflows: distances in units of 2r. */
+static long count_pairs_scaled(const double *x, const double *y, const uint32_t *ord,
+                               uint32_t a0, uint32_t a1, uint32_t b0, uint32_t b1, int same,
+                               double reach)
+{
+    long n = 0;
+    for (uint32_t p = a0; p < a1; p++)
+        for (uint32_t q = same ? p + 1 : b0; q < b1; q++) {
+            double dx = (x[ord[q]] - x[ord[p]]) / reach, dy = (y[ord[q]] - y[ord[p]]) / reach;
+            n += dx * dx + dy * dy < 1;
+        }
+    return n;
+}
+
+/* Pairs of cell lists a and b closer than reach. */
+static long count_cells(const double *x, const double *y, const uint32_t *ord,
+                        const uint32_t *start, size_t a, size_t b, double reach)
+{
+    const double d2 = reach * reach;
+    if (!isfinite(d2))
+        return count_pairs_scaled(x, y, ord, start[a], start[a + 1], start[b], start[b + 1],
+                                  a == b, reach);
+    return count_pairs(x, y, ord, start[a], start[a + 1], start[b], start[b + 1], a == b, d2);
 }
 
 /* Pairs closer than 2r, through a cell list of its own (O(n) for any
@@ -67,20 +93,47 @@ static long count_overlaps(const psim_cols *c, long n, double L, double r)
             size_t a = (size_t)cy * (size_t)G + (size_t)cx;
             if (start[a] == start[a + 1])
                 continue;
-            found += count_pairs(x, y, ord, start[a], start[a + 1], 0, start[a + 1], 1,
-                                 reach * reach);
+            found += count_cells(x, y, ord, start, a, a, reach);
             for (int k = 0; k < 4; k++) {
                 int nx = cx + fwd[k][0], ny = cy + fwd[k][1];
                 if (nx < 0 || nx >= G || ny >= G)
                     continue;
-                size_t d = (size_t)ny * (size_t)G + (size_t)nx;
-                found += count_pairs(x, y, ord, start[a], start[a + 1], start[d], start[d + 1], 0,
-                                     reach * reach);
+                found += count_cells(x, y, ord, start, a, (size_t)ny * (size_t)G + (size_t)nx,
+                                     reach);
             }
         }
 out:
     free(start), free(ord), free(cell);
     return found;
+}
+
+/* The kinetic energy again where its plain sum overflowed (velocities
+ * near 1e154 and above): in units of a power of two at or above the
+ * largest component, as --check sums energies, then scaled back; still
+ * not finite only when the energy itself is beyond the largest double
+ * (t->too_large names it).  The plain sum is kept wherever it is finite:
+ * the same bytes as ever for ordinary scenes.  (Momentum cannot overflow
+ * then: every |v| is below 2e154.) */
+static void rescale_ke(const psim_cols *c, long n, psim_thermo *t)
+{
+    double m = 0;
+    for (long i = 0; i < n; i++) {
+        double u = fabs(c->vx[c->at[i]]), w = fabs(c->vy[c->at[i]]);
+        if (!(u <= DBL_MAX && w <= DBL_MAX))
+            return;   /* the state itself is not finite: not the sum's fault */
+        m = fmax(m, fmax(u, w));
+    }
+    int ex;
+    frexp(m, &ex);
+    const double k = ldexp(1.0, -ex);   /* exact, as a power of two */
+    double ke = 0;
+    for (long i = 0; i < n; i++) {   /* in id order */
+        double vx = c->vx[c->at[i]] * k, vy = c->vy[c->at[i]] * k;
+        ke += 0.5 * (vx * vx + vy * vy);
+    }
+    t->ke = ldexp(ke, 2 * ex);
+    if (!isfinite(t->ke))
+        t->too_large = "kinetic energy (half the sum of vx^2 + vy^2)";
 }
 
 int psim_thermo_measure(const psim_sim *e, psim_thermo *t)
@@ -91,16 +144,20 @@ int psim_thermo_measure(const psim_sim *e, psim_thermo *t)
     const long n = e->n;
     t->step = e->step;
     t->area = e->L * e->L;
+    t->side = e->L;
     t->ke = t->px = t->py = 0;
+    t->too_large = NULL;
     for (long i = 0; i < n; i++) {   /* in id order */
         double vx = c.vx[c.at[i]], vy = c.vy[c.at[i]];
         t->ke += 0.5 * (vx * vx + vy * vy);
         t->px += vx;
         t->py += vy;
     }
-    t->overlaps = count_overlaps(&c, n, e->L, e->r);
+    if (!isfinite(t->ke))
+        rescale_ke(&c, n, t);
+    t->overlaps = t->too_large ? 0 : count_overlaps(&c, n, e->L, e->r);
     psim_state_cols_free(&c);
-    return t->overlaps < 0 ? -1 : 0;
+    return t->overlaps < 0 ? -1 : t->too_large ? -2 : 0;
 }
 
 const char *psim_thermo_column(const psim_sim *e, int k)

@@ -67,8 +67,9 @@ int psim_write_stats_json(FILE *f, const psim_sim *e, const char *scene_name,
     fprintf(f, ",\n  \"n\": %ld,\n  \"L\": %s,\n  \"r\": %s,\n  \"steps\": %ld,\n"
                "  \"threads\": %d,\n  \"allocator\": \"%s\",\n",
             e->n, L, r, s->steps, s->threads, psim_allocator_name());
-    char h[PSIM_FORMAT_MAX];
-    psim_format_double(h, s->cell_side, -1);
+    char h[PSIM_FORMAT_MAX] = "null";   /* JSON has no infinity */
+    if (isfinite(s->cell_side))
+        psim_format_double(h, s->cell_side, -1);
     fprintf(f, "  \"grid_cells\": %d,\n  \"cell_side\": %s,\n  \"tile_cells\": %d,\n"
                "  \"tiles\": %d,\n  \"tiles_cut\": %s,\n",
             s->grid_cells, h, s->tile_cells, s->tiles, s->tiles_cut ? "true" : "false");

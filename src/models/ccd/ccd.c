@@ -158,6 +158,30 @@ static void restart_load(const psim_sim *e, const psim_scene *sc, cmodel *m)
     }
 }
 
+/* The largest box and speeds the rules' times of impact can be computed
+ * for.  With every centre inside the box (create) and S the speed one
+ * disk may reach (model.h), a pair's |dp| <= sqrt(2) L and |dv| <=
+ * sqrt(2) S, so the rules' arithmetic (rules.h) stays below: C = |dp|^2 -
+ * 4r^2 <= 2 L^2, A = |dv|^2 <= 2 S^2, B^2 <= 16 (S L)^2, D = B^2 - 4AC <=
+ * 32 (S L)^2.  Past them D is NaN or infinite, no time of impact exists
+ * and disks pass through each other.  The bounds leave a factor of 1e4
+ * below the largest double. */
+#define CCD_MAX_LENGTH 1e152
+#define CCD_MAX_SPEED 1e152
+#define CCD_MAX_LENGTH_SPEED 1e151
+
+static int limits(const psim_sim *e, const psim_scene *sc, psim_limits *lim, psim_error *err)
+{
+    (void)e, (void)sc, (void)err;
+    lim->at[PSIM_LIMIT_BOX] = (psim_limit){CCD_MAX_LENGTH,
+                                           "its squared distances (up to 2 L^2)"};
+    lim->at[PSIM_LIMIT_SPEED] = (psim_limit){CCD_MAX_SPEED,
+                                             "its squared relative speeds (up to 2 S^2)"};
+    lim->at[PSIM_LIMIT_BOX_SPEED] = (psim_limit){
+        CCD_MAX_LENGTH_SPEED, "its times of impact's B^2 - 4AC (up to 32 (S L)^2)"};
+    return 0;
+}
+
 static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
 {
     /* (the model's own restart file holds a state the rule reached: a disk
@@ -371,6 +395,7 @@ const psim_model psim_model_ccd = {
               [CS_MOVE] = {"move", "every velocity 0: nothing moves"},
               [CS_GRAPH] = {"task_graph", "one thread: detection runs in order, no tasks"}},
     .sorts_itself = 1,
+    .limits = limits,
     .create = create,
     .interact = interact,
     .check = ccd_check,

@@ -126,6 +126,41 @@ static void destroy(void *p)
     free(m);
 }
 
+/* The largest radius, positions and speeds the collision rule can be
+ * carried out for (collide.h), where there is a pair: a lone disk only
+ * moves, and a move past the largest double is a state that overflowed
+ * (reported as such after the step).  With S the speed one disk may reach
+ * (model.h), a contact has |dp| <= 2r and |dv| <= sqrt(2) S: (2r)^2,
+ * dv.dp <= 2.9 r S and a new velocity <= 2.5 S stay finite below these
+ * bounds, and so do the positions, which stay within max(|x|, L) + 2 S
+ * (walls turn a disk back), their differences and the grid's extent.
+ * Past (2r)^2 every pair is a contact and the rule divides infinities;
+ * past dv.dp a collision gives NaN velocities although the state is
+ * finite.  The bounds leave a factor of at least 3 below the largest
+ * double (1e4 for the radius). */
+#define DISCRETE_MAX_LENGTH 1e307
+#define DISCRETE_MAX_RADIUS 1e152
+#define DISCRETE_MAX_SPEED 1e307
+#define DISCRETE_MAX_RADIUS_SPEED 1e306
+
+static int limits(const psim_sim *e, const psim_scene *sc, psim_limits *lim, psim_error *err)
+{
+    (void)sc, (void)err;
+    if (e->n < 2)
+        return 0;
+    lim->at[PSIM_LIMIT_BOX] = (psim_limit){DISCRETE_MAX_LENGTH,
+                                           "its positions after a move (up to L + 2 S)"};
+    lim->at[PSIM_LIMIT_POSITION] = (psim_limit){
+        DISCRETE_MAX_LENGTH, "its differences of positions (up to 2 (|x| + 2 S))"};
+    lim->at[PSIM_LIMIT_RADIUS] = (psim_limit){DISCRETE_MAX_RADIUS,
+                                              "its contact distance (2r)^2"};
+    lim->at[PSIM_LIMIT_SPEED] = (psim_limit){
+        DISCRETE_MAX_SPEED, "its velocities after a collision (up to 2.5 S)"};
+    lim->at[PSIM_LIMIT_RADIUS_SPEED] = (psim_limit){
+        DISCRETE_MAX_RADIUS_SPEED, "its contacts' dv.dp (up to 2.9 r S)"};
+    return 0;
+}
+
 static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
 {
     (void)sc;
@@ -274,6 +309,7 @@ const psim_model psim_model_discrete = {
     .output_digits = -1,
     .step_summary = step_summary,
     .follows_order = 1,
+    .limits = limits,
     .create = create,
     .drift = discrete_drift,
     .interact = interact,

@@ -242,6 +242,31 @@ static int radius_too_small(const psim_scene *sc, psim_error *err)
     return 1;
 }
 
+/* The largest box and speeds the contact times can be computed for.  With
+ * every centre inside the box and S the speed one disk may reach (model.h),
+ * a pair's |dr| <= sqrt(2) L and |dv| <= sqrt(2) S, so its arithmetic
+ * (predict.h, collide) stays below: |dr|^2 <= 2 L^2, |dv|^2 sigma^2 <= 2
+ * (S L)^2, (dr x dv)^2 <= 4 (S L)^2, the kinetic energy S^2 / 2, the
+ * virial's terms 2 S L.  Past L = 1e155 the squared distances overflow, a
+ * contact time is NaN, taken as "now", and the collision that changes
+ * nothing is found again at the same instant for ever.  The bounds leave
+ * a factor of 1e4 below the largest double. */
+#define EVENT_MAX_LENGTH 1e152
+#define EVENT_MAX_SPEED 1e152
+#define EVENT_MAX_LENGTH_SPEED 1e152
+
+static int limits(const psim_sim *e, const psim_scene *sc, psim_limits *lim, psim_error *err)
+{
+    (void)e, (void)sc, (void)err;
+    lim->at[PSIM_LIMIT_BOX] = (psim_limit){EVENT_MAX_LENGTH,
+                                           "its squared distances (up to 2 L^2)"};
+    lim->at[PSIM_LIMIT_SPEED] = (psim_limit){EVENT_MAX_SPEED,
+                                             "its squared speeds (up to S^2)"};
+    lim->at[PSIM_LIMIT_BOX_SPEED] = (psim_limit){
+        EVENT_MAX_LENGTH_SPEED, "its contact times' (dr x dv)^2 (up to 4 (S L)^2)"};
+    return 0;
+}
+
 static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
 {
     if (radius_too_small(sc, err))
@@ -409,6 +434,7 @@ const psim_model psim_model_event = {
     .options = {{"calendar", "1: Paul's calendar (buckets, the current one sorted; default); "
                              "0: one binary heap (the baseline)", 0, 1, 1},
                 {NULL, NULL, 0, 0, 0}},
+    .limits = limits,
     .create = create,
     .interact = interact,
     .check = check,

@@ -38,6 +38,111 @@ static void set_law(flaw *k, const psim_sim *e, const psim_scene *sc)
     k->min_r2 = min_r * min_r;
 }
 
+/* The largest box, positions and law the force's arithmetic can carry
+ * out.  Positions and the box: a reflection off a wall, 2L - x, stays
+ * finite.  The list radius, cutoff + skin: its square (the pair tests,
+ * nlist.c) stays finite, with a factor of 1e4 to spare: past it (a cutoff
+ * 2r of 1e158 in a box of 1e170) every pair's r2 is within an infinite
+ * cutoff^2, the scaled mass (set_law) is 0, and the forces were NaN, a
+ * state reported as overflowed although it had not.  For a scene file,
+ * whose mass is scaled from the cutoff, that mass must be a normal double
+ * and the largest velocity change one pair can give in a step, |coef|
+ * min_r dt at the closest distance the law takes (min_r = cutoff / 100),
+ * at most FORCE_MAX_KICK (2.5e3 cutoff dt).  A mass set with
+ * --option mass is the user's: its forces are taken as they come. */
+#define FORCE_MAX_LENGTH 1e307
+#define FORCE_MAX_REACH 1e152
+#define FORCE_MAX_KICK 1e300
+
+/* Which of the scene's lines (r) or the run's options a law comes from,
+ * as the start of a message ("FILE:LINE: radius r = R" or "--option
+ * cutoff=C"), and whether the options are at fault (usage). */
+static int law_source(const psim_sim *e, const psim_scene *sc, char *buf, size_t size)
+{
+    if (isnan(psim_engine_option(e, "cutoff", NAN)) && sc->format != PSIM_SCENE_CS267) {
+        char at[320];
+        psim_scene_where_header(sc, PSIM_LINE_R, at, sizeof at);
+        snprintf(buf, size, "%sradius r = %g", at, sc->r);
+        return 0;
+    }
+    snprintf(buf, size, "--option cutoff=%g", psim_engine_option(e, "cutoff", CS267_CUTOFF));
+    return 1;
+}
+
+static int law_limits(const psim_sim *e, const psim_scene *sc, psim_error *err)
+{
+    flaw k;
+    set_law(&k, e, sc);
+    const double skin = psim_engine_option(e, "skin", FORCE_SKIN) * k.cutoff;
+    const double min_r = sqrt(k.min_r2);
+    const double kick = fabs((1 - k.cutoff / min_r) / k.min_r2 / k.mass) * min_r * k.dt;
+    const int derived = isnan(psim_engine_option(e, "mass", NAN)) && sc->format != PSIM_SCENE_CS267;
+    char what[400];
+    if (!(k.cutoff + skin <= FORCE_MAX_REACH)) {
+        int usage = law_source(e, sc, what, sizeof what);
+        psim_error_set(err, "%s is too large for the force model: its list radius, cutoff + "
+                            "skin = %g, is above %g (its square would overflow)",
+                       what, k.cutoff + skin, FORCE_MAX_REACH);
+        if (err)
+            err->usage = usage;
+        return -1;
+    }
+    if (derived && !(k.mass >= DBL_MIN && kick <= FORCE_MAX_KICK)) {
+        int usage = law_source(e, sc, what, sizeof what);
+        if (!isnan(psim_engine_option(e, "dt", NAN))) {   /* the step is at fault */
+            snprintf(what, sizeof what, "--option dt=%g (cutoff %g)", k.dt, k.cutoff);
+            usage = 1;
+        }
+        psim_error_set(err, "%s is too large for the force model: with the mass that keeps "
+                            "the course's dynamics, 0.01 / (cutoff / 0.01 * 0.0005)^2 = %g, "
+                            "%s (set --option mass= to choose one)",
+                       what, k.mass,
+                       k.mass >= DBL_MIN ? "a pair's velocity change in a step is too large "
+                                           "for a double"
+                                         : "below the smallest normal double, its forces "
+                                           "would divide by 0");
+        if (err)
+            err->usage = usage;
+        return -1;
+    }
+    return 0;
+}
+
+/* A particle whose first move takes it more than FLAW_MAX_BOUNCES + 4
+ * box sides away, whatever the forces of the first step do to it (at most
+ * n pairs' largest velocity change each), would leave the box for good at
+ * step 1 (law.h): refused now, naming its line.  0, or -1. */
+static int leaves_box(const psim_sim *e, const psim_scene *sc, psim_error *err)
+{
+    flaw k;
+    set_law(&k, e, sc);
+    const double min_r = sqrt(k.min_r2);
+    const double kick = fabs((1 - k.cutoff / min_r) / k.min_r2 / k.mass) * min_r * k.dt;
+    const double most = (FLAW_MAX_BOUNCES + 4) * k.size, slack = (double)sc->n * kick * k.dt;
+    for (long i = 0; i < sc->n; i++) {
+        double v = fmax(fabs(sc->vx[i]), fabs(sc->vy[i])), p = fmax(fabs(sc->x[i]), fabs(sc->y[i]));
+        if (!(v * k.dt - slack > most + p))
+            continue;
+        char at[320];
+        psim_scene_where(sc, i, at, sizeof at);
+        psim_error_set(err, "%sdisk %ld moves %g a step (v dt, dt %g): too large for the force "
+                            "model in a box of L = %g: past %d box sides its reflections off "
+                            "the walls (at most %d a step) cannot bring it back",
+                       at, i, v * k.dt, k.dt, k.size, FLAW_MAX_BOUNCES + 4, FLAW_MAX_BOUNCES);
+        return -1;
+    }
+    return 0;
+}
+
+static int limits(const psim_sim *e, const psim_scene *sc, psim_limits *lim, psim_error *err)
+{
+    lim->at[PSIM_LIMIT_BOX] = (psim_limit){FORCE_MAX_LENGTH,
+                                           "its reflections off the walls (2L - x)"};
+    lim->at[PSIM_LIMIT_POSITION] = (psim_limit){FORCE_MAX_LENGTH,
+                                                "its reflections off the walls (2L - x)"};
+    return law_limits(e, sc, err) || leaves_box(e, sc, err) ? -1 : 0;
+}
+
 /* Tiles for the threads: the sums do not depend on the tiles (each
  * particle's forces are added in the naive loop's order), so with more
  * than one thread there are at least FORCE_TILES_PER_THREAD tiles a thread
@@ -306,6 +411,7 @@ const psim_model psim_model_force = {
               [FS_GRAPH] = {"task_graph", "one thread or one tile: tiles run in order, no tasks"},
               [FS_LISTS] = {"rebuilds", "lists kept past the skin: the nearest unlisted pair is farther"}},
     .sorts_itself = 1,
+    .limits = limits,
     .create = create,
     .interact = interact,
     .check = check,
