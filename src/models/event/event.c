@@ -301,6 +301,8 @@ static int interact(psim_sim *e, void *p, psim_error *err)
     int rc = event_run_until(e, m, T);
     double t1 = psim_now();
     e->stats.phase_s[EPHASE_EVENTS] += t1 - t0;
+    if (rc > 0)
+        return psim_engine_stopped(e, err);
     if (rc) {
         psim_error_set(err, "out of memory for the event calendar at step %ld", e->step + 1);
         return -1;
@@ -360,6 +362,7 @@ const psim_model psim_model_event = {
     .output = {.final = 1},
     .output_digits = -1,
     .sorts_itself = 1,
+    .work_unit = "events",
     .restart_cols = {"t_own", "x_own", "y_own", "cell_x", "cell_y", "last", NULL},
     .restart_save = restart_save,
     .options = {{"calendar", "1: Paul's calendar (buckets, the current one sorted; default); "

@@ -93,6 +93,7 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
     fmodel *m = calloc(1, sizeof *m);
     if (!m)
         goto oom;
+    m->sim = e;
     set_law(&m->law, e, sc);
     m->skin = psim_engine_option(e, "skin", FORCE_SKIN) * m->law.cutoff;
     m->naive = psim_engine_option(e, "naive", 0) != 0;
@@ -153,6 +154,8 @@ static int interact(psim_sim *e, void *p, psim_error *err)
         return -1;
     }
     rc = m->naive ? force_step_naive(e, m) : force_step_lists(e, m);
+    if (psim_stop_requested())   /* the tiles ended early */
+        return psim_engine_stopped(e, err);
     if (rc == -2) {
         psim_error_set(err, "out of memory for the forces of step %ld", e->step + 1);
         return -1;
@@ -306,6 +309,7 @@ const psim_model psim_model_force = {
               [FS_GRAPH] = {"task_graph", "one thread or one tile: tiles run in order, no tasks"},
               [FS_LISTS] = {"rebuilds", "lists kept past the skin: the nearest unlisted pair is farther"}},
     .sorts_itself = 1,
+    .work_unit = "pair tests",
     .create = create,
     .interact = interact,
     .check = check,
