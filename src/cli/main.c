@@ -1,6 +1,7 @@
 /* psim: entry point; checks the environment's thread count, dispatches
- * to the subcommands and reports a standard output that could not be
- * written (a full disk, /dev/full, a closed pipe). */
+ * to the subcommands, reports a standard output that could not be
+ * written (a full disk, /dev/full, a closed pipe) and ends by the signal
+ * that stopped a run. */
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -31,5 +32,6 @@ int main(int argc, char **argv)
         fprintf(stderr, "psim: <stdout>: write failed: %s\n", strerror(errno ? errno : EIO));
         rc = 1;
     }
+    cli_interrupt_raise();   /* a run stopped by SIGINT or SIGTERM ends by it */
     return rc;
 }
