@@ -260,6 +260,27 @@ void psim_print_step_summary(FILE *f, const psim_sim *s);
  * in how many steps and why (nothing when none was). */
 void psim_print_skips(FILE *f, const psim_sim *s);
 
+/* Progress inside a long step: fn is called from inside psim_step (by any
+ * one of its threads, one call at a time) once the step has run first_s
+ * seconds, then every every_s seconds, with what the model has done in it
+ * so far.  fn NULL (the default): none. */
+typedef struct psim_step_progress {
+    long step;          /* the step running (psim_step_index + 1) */
+    double seconds;     /* since it began */
+    uint64_t work;      /* units of the model's work done in it */
+    const char *unit;   /* what a unit is: "events", "resolutions", ... */
+} psim_step_progress;
+typedef void (*psim_step_progress_fn)(void *ctx, const psim_step_progress *p);
+void psim_set_step_progress(psim_sim *s, psim_step_progress_fn fn, void *ctx,
+                            double first_s, double every_s);
+/* Ask every running simulation to stop; async-signal-safe (a handler of
+ * SIGINT may call it).  The step running ends at its model's next poll
+ * (within milliseconds) and psim_step returns -1 with "step K:
+ * interrupted", as every psim_step does from then on. */
+void psim_request_stop(void);
+/* Whether a stop was asked (one atomic load). */
+int psim_stop_requested(void);
+
 /* What one OpenMP thread did, per phase: time busy in its own work items
  * (a waiting thread is not busy), work items (tiles, tasks, chunks) and
  * particles handled, and the CPU it was last seen on. */

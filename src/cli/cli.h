@@ -120,6 +120,8 @@ int cli_check_paths(const char *who, const cli_path *in, int nin, const cli_path
 #define PROGRESS_LINE_S 10.0
 typedef struct progress {
     int enabled, tty, shown;
+    int inside_only;    /* only inside long steps (a --thermo table shows the rest) */
+    int width;          /* the widest bar drawn */
     double start, last, every;
     long total;
 } progress;
@@ -127,6 +129,29 @@ typedef struct progress {
 void progress_init(progress *p, long total, int quiet);
 void progress_update(progress *p, long done);
 void progress_done(progress *p);
+/* Inside a step that has run PROGRESS_LINE_S seconds (psim_set_step_progress,
+ * with the times of progress_inside_times): "psim: step 2 of 5: 3.2e9
+ * events so far, 40 s in this step" every PROGRESS_LINE_S seconds, or the
+ * bar on a terminal; done is the step's number in the run. */
+void progress_inside(progress *p, long done, const psim_step_progress *r);
+void progress_inside_times(const progress *p, double *first_s, double *every_s);
+
+/* SIGINT and SIGTERM while a run steps (interrupt.c): cli_interrupt_arm
+ * makes the first of them a request to stop (psim_request_stop), which
+ * the step running sees at its next poll; the run then fails with one
+ * line, removes its temporary outputs, and cli_interrupt_raise ends psim
+ * by that signal (a calling shell sees the interrupt; status 128 + the
+ * signal: 130 for SIGINT, 143 for SIGTERM).  A second signal, or a run
+ * still going CLI_STOP_GRACE_S seconds after the first, ends psim at once
+ * through the handler there was before (which removes the temporary
+ * files).  A signal the parent ignored (nohup) stays ignored.
+ * cli_interrupt_disarm restores the handlers there were. */
+#define CLI_STOP_GRACE_S 3
+void cli_interrupt_arm(void);
+void cli_interrupt_disarm(void);
+int cli_interrupted(void);          /* the signal that asked to stop; 0: none */
+const char *cli_interrupt_name(void);   /* "SIGINT", "SIGTERM" */
+void cli_interrupt_raise(void);     /* end by it, if one asked */
 
 /* --thermo N and --thermo-file (thermo.c): rows at the start, every
  * `every` steps and after the last step; the table to `table` (NULL: none),

@@ -1,7 +1,7 @@
 /* psim: entry point; makes sure the standard descriptors are open,
- * checks the environment's thread count, dispatches to the subcommands
- * and reports a standard output that could not be written (a full disk,
- * /dev/full, a closed pipe). */
+ * checks the environment's thread count, dispatches to the subcommands,
+ * reports a standard output that could not be written (a full disk,
+ * /dev/full, a closed pipe) and ends by the signal that stopped a run. */
 #include <errno.h>
 #include <fcntl.h>
 #include <stdio.h>
@@ -64,5 +64,6 @@ int main(int argc, char **argv)
         cli_err("psim: <stdout>: write failed: %s", strerror(errno ? errno : EIO));
         rc = 1;
     }
+    cli_interrupt_raise();   /* a run stopped by SIGINT or SIGTERM ends by it */
     return rc;
 }

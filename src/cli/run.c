@@ -638,12 +638,42 @@ static int finite_since(const run_opts *o, const psim_sim *s, const psim_scene *
     return -1;
 }
 
+/* Progress inside a long step: the run's progress, and its first step. */
+typedef struct inside {
+    progress *pb;
+    long first;
+} inside;
+
+static void show_inside(void *ctx, const psim_step_progress *r)
+{
+    const inside *in = ctx;
+    progress_inside(in->pb, r->step - in->first, r);
+}
+
+/* The steps' progress: between steps and inside long ones; a thermo table
+ * shows the steps itself (then only long steps show, as lines, which keep
+ * the table whole). */
+static void watch_steps(const run_opts *o, psim_sim *s, long steps, progress *pb, inside *in)
+{
+    progress_init(pb, steps, o->quiet);
+    if (o->thermo)
+        pb->inside_only = 1, pb->tty = 0;
+    *in = (inside){pb, psim_step_index(s)};
+    double first_s, every_s;
+    progress_inside_times(pb, &first_s, &every_s);
+    if (pb->enabled)
+        psim_set_step_progress(s, show_inside, in, first_s, every_s);
+}
+
+/* The steps: 0, -1 with err set, or -2 when a signal stopped them. */
 static int simulate(const run_opts *o, psim_sim *s, const psim_scene *sc,
                     const psim_config *cfg, long steps, run_state *rs, psim_error *err)
 {
     progress pb;
-    /* a thermo table shows the progress itself */
-    progress_init(&pb, steps, o->quiet || o->thermo);
+    inside in;
+    watch_steps(o, s, steps, &pb, &in);
+    /* SIGINT and SIGTERM from here to the last step: stop at the next poll */
+    cli_interrupt_arm();
     int rc = 0;
     /* steps are numbered on from a restart file's */
     const long first = psim_step_index(s), last = first + steps;
@@ -675,7 +705,7 @@ static int simulate(const run_opts *o, psim_sim *s, const psim_scene *sc,
     for (long k = first + 1; k <= last && rc == 0; k++) {
         double t0 = psim_now();
         if (psim_step(s, err)) {
-            rc = -1;
+            rc = psim_stop_requested() ? -2 : -1;
             break;
         }
         steps_s += psim_now() - t0;
@@ -698,6 +728,14 @@ static int simulate(const run_opts *o, psim_sim *s, const psim_scene *sc,
             progress_update(&pb, k - first);
     }
     progress_done(&pb); /* also on failure: the error line starts clean */
+    psim_set_step_progress(s, NULL, NULL, 0, 0);
+    /* from here a signal ends psim at once; one that came after the last
+     * step's end stops the run all the same */
+    cli_interrupt_disarm();
+    if (rc == 0 && cli_interrupted()) {
+        psim_error_set(err, "after step %ld: interrupted", psim_step_index(s));
+        rc = -2;
+    }
     return rc;
 }
 
@@ -785,10 +823,13 @@ int cli_run(int argc, char **argv)
         goto done;
     }
     double t0 = psim_now();
-    if (simulate(&o, s, &sc, &cfg, steps, &rs, &err)) {
+    int ran = simulate(&o, s, &sc, &cfg, steps, &rs, &err);
+    if (ran == -2)   /* and psim ends by the signal (main) */
+        cli_err("psim: %s: %s by %s", o.label, err.msg, cli_interrupt_name());
+    else if (ran)
         cli_err("psim: %s: %s", o.label, err.msg);
+    if (ran)
         goto done;
-    }
     /* the steps' time, without the states written between them (the
      * course's own figure, for the source's summary, includes them) */
     double loop_s = psim_now() - t0;

@@ -189,9 +189,24 @@ static int progress_due(progress *p, double now)
     return 1;
 }
 
+/* The bar on a terminal, "[####    ] " then what, over any wider bar
+ * drawn before. */
+static void progress_bar(progress *p, long done, const char *what)
+{
+    int width = 30, fill = p->total ? (int)(width * done / p->total) : width;
+    fill = fill < 0 ? 0 : fill > width ? width : fill;
+    char line[256];
+    int w = snprintf(line, sizeof line, "[%.*s%*s] %s ", fill, "##############################",
+                     width - fill, "", what);
+    fprintf(stderr, "\r%-*s", p->width, line);
+    p->width = w > p->width ? w : p->width;
+    p->shown = 1;
+    fflush(stderr);
+}
+
 void progress_update(progress *p, long done)
 {
-    if (!p->enabled)
+    if (!p->enabled || p->inside_only)
         return;
     double now = psim_now();
     if (!progress_due(p, now))
@@ -203,17 +218,51 @@ void progress_update(progress *p, long done)
                 now - p->start, eta);
         return;
     }
-    p->shown = 1;
-    int width = 30, fill = p->total ? (int)(width * done / p->total) : width;
-    fprintf(stderr, "\r[%.*s%*s] step %ld/%ld, %.1f s left ", fill,
-            "##############################", width - fill, "", done, p->total, eta);
-    fflush(stderr);
+    char what[96];
+    snprintf(what, sizeof what, "step %ld/%ld, %.1f s left", done, p->total, eta);
+    progress_bar(p, done, what);
 }
 
 void progress_done(progress *p)
 {
     if (p->shown)
-        fprintf(stderr, "\r%*s\r", 70, "");
+        fprintf(stderr, "\r%*s\r", p->width > 70 ? p->width : 70, "");
+}
+
+void progress_inside_times(const progress *p, double *first_s, double *every_s)
+{
+    *first_s = p->every >= 0 ? p->every : PROGRESS_LINE_S;
+    *every_s = p->every >= 0 ? p->every : p->tty ? 0.1 : PROGRESS_LINE_S;
+}
+
+/* A count as "41203" or, from a million, "3.2e9". */
+static void count_text(char *buf, size_t size, uint64_t v)
+{
+    if (v < 1000000) {
+        snprintf(buf, size, "%llu", (unsigned long long)v);
+        return;
+    }
+    char e[32];
+    snprintf(e, sizeof e, "%.1e", (double)v);   /* "3.2e+09" */
+    char *x = strchr(e, 'e');
+    snprintf(buf, size, "%.*se%d", (int)(x - e), e, atoi(x + 1));
+}
+
+void progress_inside(progress *p, long done, const psim_step_progress *r)
+{
+    if (!p->enabled)
+        return;
+    char work[32];
+    count_text(work, sizeof work, r->work);
+    if (!p->tty) {
+        cli_err("psim: step %ld of %ld: %s %s so far, %.0f s in this step", done,
+                p->total, work, r->unit, r->seconds);
+        return;
+    }
+    char what[160];
+    snprintf(what, sizeof what, "step %ld/%ld: %s %s, %.0f s in this step", done, p->total,
+             work, r->unit, r->seconds);
+    progress_bar(p, done - 1, what);
 }
 
 /* One read or write at a time: its bar, label and how wide it was drawn. */

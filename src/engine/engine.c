@@ -436,6 +436,9 @@ void psim_engine_sort(psim_sim *e)
 
 int psim_step(psim_sim *e, psim_error *err)
 {
+    if (psim_stop_requested())
+        return psim_engine_stopped(e, err);
+    psim_poll_begin(e);
     if (e->cfg.check)
         PSIM_TIMED(e, PSIM_PHASE_CHECK, take_snapshot(e, &e->before));
     if (e->model->drift)
@@ -444,6 +447,8 @@ int psim_step(psim_sim *e, psim_error *err)
         psim_engine_sort(e);
     if (e->model->interact(e, e->mstate, err))
         return -1;
+    if (psim_stop_requested())   /* a poll ended a loop early: the state is of no use */
+        return psim_engine_stopped(e, err);
     e->step++;
     e->stats.steps = e->step - e->step0;
     if (e->cfg.check && e->model->check) {

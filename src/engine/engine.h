@@ -10,6 +10,7 @@
 #include "store.h"
 #include "timer.h"
 #include "model.h"
+#include "poll.h"
 
 struct psim_sim {
     psim_config cfg;
@@ -42,6 +43,7 @@ struct psim_sim {
     int grid_saved, grid_saved_bbox;
     double grid_saved_ask[7]; /* a restart's, given at the model's first ask */
     int32_t *restart_order; /* a restart's store order, from the first sort */
+    psim_poll_state poll;   /* progress and stopping inside a step (poll.c) */
 };
 
 /* restart.c: what a restart file carries into the engine at its creation

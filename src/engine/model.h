@@ -9,7 +9,9 @@
  * phase), the engine's sort by cell (only if the model asked for a grid),
  * then interact, where the model times its own phases (named in phases[],
  * numbered from PSIM_PHASE_MODEL) and adds to its counters (named in
- * counters[]).  With --check, check compares the state before and after. */
+ * counters[]).  With --check, check compares the state before and after.
+ * Every loop of interact that can run long polls (poll.h): progress, and
+ * a stop asked by a signal, inside the step. */
 #ifndef PSIM_ENGINE_MODEL_H
 #define PSIM_ENGINE_MODEL_H
 #include <stdio.h>
@@ -88,6 +90,9 @@ typedef struct psim_model {
     int follows_order;  /* its results depend on the store's order (the
                          * order of equal keys the sort keeps): restart
                          * files list the particles in that order, not by id */
+    /* what its polls count (poll.h), for progress inside a step:
+     * "events", "resolutions", ... */
+    const char *work_unit;
 
     /* optional: its limits for this scene and the run's options (0), or
      * -1 with err set where a quantity it derives from them (a force

@@ -10,7 +10,9 @@
  * particles in the same or adjacent cells of e's grid, or INFINITY where
  * there is none.  Needs the store sorted by cell for the current
  * positions.  A minimum, so the result does not depend on the thread
- * count; NaN positions are in no comparison and are left out. */
+ * count; NaN positions are in no comparison and are left out.  Polls
+ * (poll.h) with the pairs it looks at: a stop asked ends it early, with
+ * a result of no use (the step is abandoned). */
 double psim_nearest2(const psim_sim *e, double above2);
 
 /* A distance that every pair exceeds, given d2, the squared distance of

@@ -287,6 +287,8 @@ static int interact(psim_sim *e, void *p, psim_error *err)
                                      : walls ? ccd_detect_walls(e, m)
                                              : detect_none(m));
     found = e->stats.counter[CC_PAIR_CANDIDATES] - found;
+    if (psim_stop_requested())   /* the tasks ended early */
+        return psim_engine_stopped(e, err);
     /* a search that found no pair candidate: how long no pair can meet */
     if (rc == 0 && pairs && found == 0 && m->skip && !m->oom)
         PSIM_TIMED(e, CPHASE_DETECT, ccd_flight_measure(e, m));
@@ -294,6 +296,8 @@ static int interact(psim_sim *e, void *p, psim_error *err)
         PSIM_TIMED(e, CPHASE_ORDER, rc = ccd_order(e, m));
     if (rc == 0 && !m->oom)
         PSIM_TIMED(e, CPHASE_ACCEPT, rc = ccd_accept(e, m));
+    if (psim_stop_requested())   /* acceptance ended early */
+        return psim_engine_stopped(e, err);
     if (rc || m->oom) {
         psim_error_set(err, "out of memory for the candidates of step %ld", e->step + 1);
         return -1;
@@ -396,6 +400,7 @@ const psim_model psim_model_ccd = {
               [CS_GRAPH] = {"task_graph", "one thread: detection runs in order, no tasks"}},
     .sorts_itself = 1,
     .limits = limits,
+    .work_unit = "pair tests",
     .create = create,
     .interact = interact,
     .check = ccd_check,

@@ -374,6 +374,7 @@ static int build_bands(psim_sim *e, cmodel *m)
 /* ---- pair tests ---------------------------------------------------------- */
 
 typedef struct detect_ctx {
+    const psim_sim *e;      /* for polls (a stop asked ends the tasks early) */
     cmodel *m;
     const psim_store *s;
     const psim_grid *g;
@@ -571,34 +572,62 @@ static uint64_t band_row(detect_ctx *c, const cband *bd, uint32_t a, clist *out)
 
 /* ---- tasks --------------------------------------------------------------- */
 
+/* A task's pair tests so far, `tests` (`polled` of them polled): a poll
+ * every PSIM_POLL_WORK of them; nonzero when a stop was asked. */
+static inline int poll_tests(const detect_ctx *c, uint64_t tests, uint64_t *polled)
+{
+    if (tests - *polled < PSIM_POLL_WORK)
+        return 0;
+    uint64_t add = tests - *polled;
+    *polled = tests;
+    return psim_poll(c->e, add);
+}
+
+/* A task's tests to the step's (those not polled to the poll count). */
+static void add_tests(detect_ctx *c, uint64_t tests, uint64_t polled)
+{
+#pragma omp atomic
+    c->tests += tests;
+    if (tests > polled)
+        psim_poll_add(c->e, tests - polled);
+}
+
 /* Walls and pairs of whole small cells [c0, c1). */
 static void task_cells(detect_ctx *c, uint32_t c0, uint32_t c1)
 {
     double t0 = psim_now();
     const psim_grid *g = c->g;
     clist *out = &c->m->lists[omp_get_thread_num()];
-    uint64_t tests = 0;
+    uint64_t tests = 0, polled = 0;
     for (uint32_t cc = c0; cc < c1; cc++) {
         uint32_t a = g->cellstart[cc], b = g->cellstart[cc + 1];
         detect_walls(c, a, b, out);
         tests += sweep_cell(c, a, b, b, out) + sweep_neighbours(c, cc, a, b, out);
+        if (poll_tests(c, tests, &polled))
+            break;
     }
-#pragma omp atomic
-    c->tests += tests;
+    add_tests(c, tests, polled);
     psim_tstat_add(c->ts, CPHASE_DETECT, psim_now() - t0, 1,
                    g->cellstart[c1] - g->cellstart[c0]);
 }
 
 /* Walls and neighbour pairs of rows [k0, k1) of a big cell (its own
- * pairs are the bands'). */
+ * pairs are the bands'), SLICE_ROWS rows at a time between polls (the
+ * candidates' order in the lists does not matter: they are sorted into
+ * the rules' total order). */
+#define SLICE_ROWS 256
 static void task_slice(detect_ctx *c, uint32_t cell, uint32_t k0, uint32_t k1)
 {
     double t0 = psim_now();
     clist *out = &c->m->lists[omp_get_thread_num()];
     detect_walls(c, k0, k1, out);
-    uint64_t tests = sweep_neighbours(c, cell, k0, k1, out);
-#pragma omp atomic
-    c->tests += tests;
+    uint64_t tests = 0, polled = 0;
+    for (uint32_t k = k0; k < k1; k += SLICE_ROWS) {
+        tests += sweep_neighbours(c, cell, k, k1 - k > SLICE_ROWS ? k + SLICE_ROWS : k1, out);
+        if (poll_tests(c, tests, &polled))
+            break;
+    }
+    add_tests(c, tests, polled);
     psim_tstat_add(c->ts, CPHASE_DETECT, psim_now() - t0, 1, k1 - k0);
 }
 
@@ -607,11 +636,13 @@ static void task_band(detect_ctx *c, const cband *bd, uint32_t a0, uint32_t a1)
 {
     double t0 = psim_now();
     clist *out = &c->m->lists[omp_get_thread_num()];
-    uint64_t tests = 0;
-    for (uint32_t a = a0; a < a1; a++)
+    uint64_t tests = 0, polled = 0;
+    for (uint32_t a = a0; a < a1; a++) {
         tests += band_row(c, bd, a, out);
-#pragma omp atomic
-    c->tests += tests;
+        if (poll_tests(c, tests, &polled))
+            break;
+    }
+    add_tests(c, tests, polled);
     psim_tstat_add(c->ts, CPHASE_DETECT, psim_now() - t0, 1, a1 - a0);
 }
 
@@ -697,7 +728,7 @@ void ccd_detect(psim_sim *e, cmodel *m)
         m->lists[t].n = 0;
     size_t unit = e->st.n / (8 * (size_t)e->threads);
     unit = unit < 256 ? 256 : (unit > 16384 ? 16384 : unit);
-    detect_ctx ctx = {m, &e->st, &e->grid, m->L, m->r, e->tstats, 0, e->threads > 1};
+    detect_ctx ctx = {e, m, &e->st, &e->grid, m->L, m->r, e->tstats, 0, e->threads > 1};
     detect_ctx *c = &ctx;
     uint64_t tasks = 0;
     if (c->graph) {
@@ -718,7 +749,7 @@ void ccd_detect_walls(psim_sim *e, cmodel *m)
 {
     for (int t = 0; t < m->nlists; t++)
         m->lists[t].n = 0;
-    detect_ctx ctx = {m, &e->st, NULL, m->L, m->r, e->tstats, 0, 0};
+    detect_ctx ctx = {e, m, &e->st, NULL, m->L, m->r, e->tstats, 0, 0};
     detect_ctx *c = &ctx;
     const size_t n = e->st.n;
 #pragma omp parallel num_threads(e->threads) firstprivate(c) default(none) shared(n)

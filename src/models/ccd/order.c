@@ -153,7 +153,9 @@ static uint64_t accept_par(psim_sim *e, cmodel *m)
     uint64_t rounds = 0;
     int more = 1;
     memset(m->live, 1, n);
-    while (more) {
+    /* a chain of candidates, each after the one before it, takes a round
+     * a candidate: a poll a round (of n >= PAR_ACCEPT_MIN candidates) */
+    while (more && !psim_poll(e, 0)) {
         rounds++;
         more = 0;
 #pragma omp parallel num_threads(e->threads)

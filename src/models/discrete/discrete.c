@@ -237,6 +237,8 @@ static int interact(psim_sim *e, void *p, psim_error *err)
         }
     int rc;
     PSIM_TIMED(e, DPHASE_RESOLVE, rc = discrete_resolve(e, m));
+    if (rc && psim_stop_requested())
+        return psim_engine_stopped(e, err);
     if (rc) {
         dgroup g;
         discrete_unsettled(e, m, &g);
@@ -305,6 +307,7 @@ const psim_model psim_model_discrete = {
               [DS_MOVE] = {"move", "nothing moves"},
               [DS_GRAPH] = {"task_graph", "one thread: resolution tasks run in order"}},
     .sorts_itself = 1,
+    .work_unit = "resolutions",
     .output = {.final = 1},
     .output_digits = -1,
     .step_summary = step_summary,

@@ -45,10 +45,25 @@ typedef struct wpart {
     double *save;         /* NULL, or room for the velocities of every disk
                            * of the tile (x, then y) before its first pop */
     uint64_t checks, pres, wres;
+    uint64_t polled;      /* its resolutions polled (src/engine/poll.h) */
     uint8_t diverged;
     uint8_t bchg;         /* it changed a disk with contacts across tiles */
     int tid;              /* the thread that ran it */
 } wpart;
+
+/* A worklist's resolutions, `done`, passed the number it looks again at:
+ * 0 when they are past the budget (it gives up) or a poll says a stop was
+ * asked; else the next number to look at, the budget or the next poll
+ * before it.  Out of the loop, so that the loop keeps one number in a
+ * register, as for the budget alone. */
+static __attribute__((noinline, cold)) uint64_t look_again(const psim_sim *e, const dmodel *m,
+                                                           wpart *wp, uint64_t done)
+{
+    if (done > m->budget || psim_poll(e, done - wp->polled))
+        return 0;
+    wp->polled = done;
+    return m->budget - done < PSIM_POLL_WORK ? m->budget : done + PSIM_POLL_WORK;
+}
 
 /* Worklist fixpoint over the contacts inside tile t (and its walls).
  *
@@ -75,7 +90,9 @@ worklist_of(const psim_sim *e, dmodel *m, dtile *t, int first, wpart *wp, const 
     if (!own && !first)
         w.head = t->qhead, w.count = t->qcount;
     uint64_t checks = 0, pres = 0, wres = 0;
-    const uint64_t budget = m->budget;
+    /* the resolutions at which to look again (look_again) */
+    uint64_t look = m->budget < PSIM_POLL_WORK ? m->budget : PSIM_POLL_WORK;
+    wp->polled = 0;
     const uint8_t *border = m->border;
     uint32_t *const count = counts ? m->counting : NULL;   /* the pops (balance.c) */
     int bchg = 0;   /* a disk with contacts across tiles changed */
@@ -113,59 +130,70 @@ worklist_of(const psim_sim *e, dmodel *m, dtile *t, int first, wpart *wp, const 
         t->nact = 0;
     wp->diverged = 0;
     uint32_t gen_left = w.count, gen = 0;   /* pops left in this generation */
-    while (w.count) {
-        if (gen_left == 0) {   /* the disks queued by the last generation's pops */
-            if (++gen == gens)
+    /* pops, in runs between two looks at the resolutions (look_again: out
+     * of the run's loop, which makes no call, as with the budget alone) */
+    for (int looking = 1; looking;) {
+        looking = 0;
+        while (w.count) {
+            if (gen_left == 0) {   /* the disks queued by the last generation's pops */
+                if (++gen == gens)
+                    break;
+                gen_left = w.count;
+            }
+            if (pres + wres > look) {
+                looking = 1;
                 break;
-            gen_left = w.count;
-        }
-        gen_left--;
-        if (pres + wres > budget) {
-            wp->diverged = 1;
-            break;
-        }
-        uint32_t i = wl_pop(&w);
-        if (counts)
-            count[i]++;
-        int full = flag[i] & F_CHANGED, changed = 0;
-        flag[i] = F_SEEN;
-        const double xi = x[i], yi = y[i];
-        double vxi = vx[i], vyi = vy[i];
-        if (walls && near[i] && psim_wall_collides(xi, yi, vxi, vyi, L, r)) {
-            psim_wall_resolve(xi, yi, &vxi, &vyi, L, r);
-            wres++;
-            full = 1;
-            bchg |= border[i];
-        }
-        const int32_t *a = t->adj + t->adj0[i - t->p0];
-        const int32_t *end = t->adj + t->adj0[i - t->p0 + 1];
-        for (; a < end; a++) {
-            uint32_t j = (uint32_t)*a;
-            if (!full && (flag[j] & F_SEEN))
-                continue;
-            checks++;
-            double dx = x[j] - xi, dy = y[j] - yi;
-            double dot = psim_approach(dx, dy, vx[j] - vxi, vy[j] - vyi);
-            if (psim_moving_closer(dot)) {
-                psim_pair_resolve(dot, dx, dy, dx * dx + dy * dy, &vxi, &vyi,
-                                  &vx[j], &vy[j]);
-                changed = 1;
-                pres++;
-                bchg |= border[j];
-                flag[j] |= F_CHANGED;
-                wl_push(&w, flag, j);
+            }
+            gen_left--;
+            uint32_t i = wl_pop(&w);
+            if (counts)
+                count[i]++;
+            int full = flag[i] & F_CHANGED, changed = 0;
+            flag[i] = F_SEEN;
+            const double xi = x[i], yi = y[i];
+            double vxi = vx[i], vyi = vy[i];
+            if (walls && near[i] && psim_wall_collides(xi, yi, vxi, vyi, L, r)) {
+                psim_wall_resolve(xi, yi, &vxi, &vyi, L, r);
+                wres++;
+                full = 1;
+                bchg |= border[i];
+            }
+            const int32_t *a = t->adj + t->adj0[i - t->p0];
+            const int32_t *end = t->adj + t->adj0[i - t->p0 + 1];
+            for (; a < end; a++) {
+                uint32_t j = (uint32_t)*a;
+                if (!full && (flag[j] & F_SEEN))
+                    continue;
+                checks++;
+                double dx = x[j] - xi, dy = y[j] - yi;
+                double dot = psim_approach(dx, dy, vx[j] - vxi, vy[j] - vyi);
+                if (psim_moving_closer(dot)) {
+                    psim_pair_resolve(dot, dx, dy, dx * dx + dy * dy, &vxi, &vyi,
+                                      &vx[j], &vy[j]);
+                    changed = 1;
+                    pres++;
+                    bchg |= border[j];
+                    flag[j] |= F_CHANGED;
+                    wl_push(&w, flag, j);
+                }
+            }
+            vx[i] = vxi;
+            vy[i] = vyi;
+            if (changed) {
+                bchg |= border[i];
+                flag[i] |= F_CHANGED;
+                wl_push(&w, flag, i);
             }
         }
-        vx[i] = vxi;
-        vy[i] = vyi;
-        if (changed) {
-            bchg |= border[i];
-            flag[i] |= F_CHANGED;
-            wl_push(&w, flag, i);
+        if (looking && !(look = look_again(e, m, wp, pres + wres))) {
+            wp->diverged = 1;   /* past the budget, or a stop asked */
+            break;
         }
     }
     if (!own)
         t->qhead = w.head, t->qcount = w.count;
+    if (pres + wres > wp->polled)
+        psim_poll_add(e, pres + wres - wp->polled);
     wp->checks = checks, wp->pres = pres, wp->wres = wres;
     wp->bchg = (uint8_t)bchg;
     wp->tid = omp_get_thread_num();
@@ -248,7 +276,7 @@ static void edge_task(const psim_sim *e, dmodel *m, size_t k, int first)
                     a->changed_cross_prev || b->changed_cross_prev))
         return;
     const dlist *la = &a->cross[ed->dir], *lb = &b->cross[DIR_OPP(ed->dir)];
-    uint64_t total = 0, res, checks = 0;
+    uint64_t total = 0, res, checks = 0, polled = 0;
     const uint64_t budget = m->budget;
     do {
         res = cross_pass(e, m, la, a, b, &checks) + cross_pass(e, m, lb, a, b, &checks);
@@ -257,7 +285,16 @@ static void edge_task(const psim_sim *e, dmodel *m, size_t k, int first)
             a->diverged = 1;
             break;
         }
+        if (total - polled >= PSIM_POLL_WORK) {
+            if (psim_poll(e, total - polled)) {
+                a->diverged = 1;   /* a stop asked */
+                break;
+            }
+            polled = total;
+        }
     } while (res);
+    if (total > polled)
+        psim_poll_add(e, total - polled);
     a->checks += checks;
     a->pair_res += total;
     if (total)   /* (its disks are in a's and b's acts) */
@@ -621,6 +658,9 @@ __attribute__((noinline)) int discrete_resolve(psim_sim *e, dmodel *m)
     }
     mark_border(m, 1);
     m->counting = discrete_balance_counts(e, m) ? m->work : NULL;
+    /* rounds of few resolutions each poll every PSIM_POLL_WORK of them
+     * (their worklists and edges count them) */
+    uint64_t look = PSIM_POLL_WORK;
 #pragma omp parallel num_threads(e->threads) if (e->threads > 1)
 #pragma omp single
     {
@@ -636,6 +676,13 @@ __attribute__((noinline)) int discrete_resolve(psim_sim *e, dmodel *m)
             }
             if (res == 0)
                 break;
+            if (total >= look) {
+                if (psim_poll(e, 0)) {
+                    settled = 0;
+                    break;
+                }
+                look = total + PSIM_POLL_WORK;
+            }
         }
     }
     mark_border(m, 0);

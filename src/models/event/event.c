@@ -105,10 +105,18 @@ static double kinetic(const emodel *m)
     return k / 2;
 }
 
-/* The run's wall events alone, at today's speeds, must stay countable:
- * a disk at 1e300 a step would hit the walls 1e298 times a step, and the
- * run would never end.  Refuse it, naming the fastest disk. */
-#define EVENT_RUN_LIMIT 1e12
+/* A run whose events cannot end in reasonable time is refused up front,
+ * naming the fastest disk (a disk at 1e300 a step would hit the walls
+ * 1e298 times a step, and the run would never end).  A disk moving
+ * (vx, vy) a step hits the walls (|vx| + |vy|) / w times a step, w apart,
+ * and crosses G - 1 cell borders between two hits: G (|vx| + |vy|) / w
+ * events a step, its collisions aside.  At EVENT_RATE_MAX events a second,
+ * the fastest measured (one disk, all in the cache: more disks run slower),
+ * the run takes at least events / EVENT_RATE_MAX seconds; beyond
+ * EVENT_REFUSE_S it is certainly absurd.  A shorter run runs, with
+ * progress inside its steps (poll.h). */
+#define EVENT_RATE_MAX 2e7
+#define EVENT_REFUSE_S 86400.0
 
 static int too_many_events(const psim_sim *e, const emodel *m, psim_error *err)
 {
@@ -121,12 +129,14 @@ static int too_many_events(const psim_sim *e, const emodel *m, psim_error *err)
             fastest = v, who = i;
     }
     double steps = e->cfg.steps > 0 ? (double)e->cfg.steps : 1.0;
-    if (!(rate * steps > EVENT_RUN_LIMIT) && isfinite(rate))
+    double events = rate * m->G * steps, least_s = events / EVENT_RATE_MAX;
+    if (!(least_s > EVENT_REFUSE_S) && isfinite(rate))
         return 0;
-    psim_error_set(err, "disk %ld moves %g a step between walls %g apart: about %.3g wall "
-                        "events in %.0f steps, more than the event model can run (%g); the "
+    psim_error_set(err, "disk %ld moves %g a step between walls %g apart: about %.3g wall and "
+                        "cell events in %.0f steps, at least %.3g days at the event model's "
+                        "fastest (%g events a second), more than it runs (a day); the "
                         "discrete and ccd models take such speeds",
-                   who, fastest, w, rate * steps, steps, EVENT_RUN_LIMIT);
+                   who, fastest, w, events, steps, least_s / 86400, EVENT_RATE_MAX);
     return 1;
 }
 
@@ -364,6 +374,8 @@ static int interact(psim_sim *e, void *p, psim_error *err)
     int rc = event_run_until(e, m, T);
     double t1 = psim_now();
     e->stats.phase_s[EPHASE_EVENTS] += t1 - t0;
+    if (rc > 0)
+        return psim_engine_stopped(e, err);
     if (rc) {
         psim_error_set(err, "out of memory for the event calendar at step %ld", e->step + 1);
         return -1;
@@ -423,6 +435,7 @@ const psim_model psim_model_event = {
     .output = {.final = 1},
     .output_digits = -1,
     .sorts_itself = 1,
+    .work_unit = "events",
     /* (the model checks what depends on the scene: restart_disk_bad) */
     .restart_cols = {{"t_own", 0, 0, PSIM_MAX_STEPS},
                      {"x_own", 0, -DBL_MAX, DBL_MAX},

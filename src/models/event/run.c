@@ -240,15 +240,22 @@ static inline void prefetch_next(const emodel *m)
     }
 }
 
-/* Take the events up to time T in order (those at T included). */
+/* Take the events up to time T in order (those at T included): 0, -1
+ * when out of memory, 1 when a stop was asked (a poll every
+ * PSIM_POLL_WORK events taken). */
 int event_run_until(psim_sim *e, emodel *m, double T)
 {
-    for (;;) {
+    for (uint32_t poll = PSIM_POLL_WORK;;) {
         const eevent *top = ecal_peek(&m->cal);
         if (m->cal.oom)
             return -1;
         if (!top || top->t > T)
             break;
+        if (--poll == 0) {
+            if (psim_poll(e, PSIM_POLL_WORK))
+                return 1;
+            poll = PSIM_POLL_WORK;
+        }
         eevent ev = *top;
         ecal_pop(&m->cal);
         prefetch_next(m);

@@ -193,11 +193,34 @@ static void destroy(void *p)
     free(m);
 }
 
+/* The naive loops test n^2 pairs a step: a run that would take more than
+ * FORCE_REFUSE_S at FORCE_NAIVE_RATE pair tests a second a thread (some
+ * eight times the rate measured: 1.3e8 a second) is certainly absurd and
+ * refused up front; a shorter one runs, with progress inside its steps. */
+#define FORCE_NAIVE_RATE 1e9
+#define FORCE_REFUSE_S 86400.0
+
+static int naive_too_long(const psim_sim *e, psim_error *err)
+{
+    double steps = e->cfg.steps > 0 ? (double)e->cfg.steps : 1.0;
+    double tests = (double)e->n * (double)e->n * steps;
+    double least_s = tests / (FORCE_NAIVE_RATE * e->threads);
+    if (!(least_s > FORCE_REFUSE_S))
+        return 0;
+    psim_error_set(err, "--option naive=1 on %ld particles: about %.3g pair tests in %.0f "
+                        "steps, at least %.3g days on %d threads at %g a second a thread, "
+                        "more than psim runs (a day); the neighbour lists (the default) take "
+                        "this scene",
+                   e->n, tests, steps, least_s / 86400, e->threads, FORCE_NAIVE_RATE);
+    return 1;
+}
+
 static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
 {
     fmodel *m = calloc(1, sizeof *m);
     if (!m)
         goto oom;
+    m->sim = e;
     set_law(&m->law, e, sc);
     m->skin = psim_engine_option(e, "skin", FORCE_SKIN) * m->law.cutoff;
     m->naive = psim_engine_option(e, "naive", 0) != 0;
@@ -210,6 +233,10 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
     m->rounds = (int)psim_engine_option(
         e, "rounds", e->threads >= FORCE_STATIC_THREADS ? FORCE_ROUNDS_STATIC : FORCE_ROUNDS_DYNAMIC);
     m->absmin = 1.0;
+    if (m->naive && naive_too_long(e, err)) {
+        destroy(m);
+        return NULL;
+    }
     if (m->naive) {
         if (force_plan_naive(m, e->n))
             goto oom;
@@ -258,6 +285,8 @@ static int interact(psim_sim *e, void *p, psim_error *err)
         return -1;
     }
     rc = m->naive ? force_step_naive(e, m) : force_step_lists(e, m);
+    if (psim_stop_requested())   /* the tiles ended early */
+        return psim_engine_stopped(e, err);
     if (rc == -2) {
         psim_error_set(err, "out of memory for the forces of step %ld", e->step + 1);
         return -1;
@@ -412,6 +441,7 @@ const psim_model psim_model_force = {
               [FS_LISTS] = {"rebuilds", "lists kept past the skin: the nearest unlisted pair is farther"}},
     .sorts_itself = 1,
     .limits = limits,
+    .work_unit = "pair tests",
     .create = create,
     .interact = interact,
     .check = check,

@@ -151,6 +151,7 @@ typedef struct fpool {
 } fpool;
 
 typedef struct fmodel {
+    const psim_sim *sim;    /* the simulation, for polls (poll.h) */
     flaw law;
     int naive, stats, skip;
     int simd;               /* list builds, pair tests and moves with AVX-512 */

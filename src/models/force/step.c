@@ -464,7 +464,13 @@ static void block_naive(const fmodel *m, psim_store *s, ftile *t)
     const flaw *k = &m->law;
     const size_t n = s->n;
     tile_reset(t);
+    uint64_t polled = 0;   /* n pair tests a particle: a poll every PSIM_POLL_WORK */
     for (uint32_t q = 0; q < t->n; q++) {
+        if (t->tests - polled >= PSIM_POLL_WORK) {
+            if (psim_poll(m->sim, t->tests - polled))
+                return;   /* a stop asked: the step is abandoned */
+            polled = t->tests;
+        }
         uint32_t i = t->first + q;
         double px = s->x[i], py = s->y[i], ax = 0, ay = 0;
         uint64_t hits = 0;
@@ -684,15 +690,20 @@ static void tiles_drift(fmodel *m, const psim_store *s)
 typedef void (*tile_fn)(const fmodel *m, psim_store *s, ftile *t);
 
 /* Tile ft's fn, timed as phase (its seconds kept in the tile: tf for the
- * force, ti for the rest). */
+ * force, ti for the rest), and a poll with its pair tests (the naive
+ * loop's own polls count those); after a stop asked, nothing (the step is
+ * abandoned). */
 static void tile_timed(const fmodel *m, psim_store *s, psim_thread_stats *ts, tile_fn fn,
                        int phase, ftile *ft)
 {
+    if (psim_stop_requested())
+        return;
     double b0 = psim_now();
     fn(m, s, ft);
     double dt = psim_now() - b0;
     *(phase == FPHASE_FORCE ? &ft->tf : &ft->ti) = dt;
     psim_tstat_add(ts, phase, dt, 1, ft->n);
+    psim_poll(m->sim, phase == FPHASE_FORCE && !m->naive ? ft->tests : 0);
 }
 
 /* Tile ft's task running fn, timed as phase (src/engine/task.h). */
