@@ -124,8 +124,11 @@ static void run_usage(FILE *f)
 "  -V, --version     show the version\n"
 "\n"
 "Output files appear only when complete.  Results do not depend on the\n"
-"thread count or the pinning.  Exit status: 0 ok, 1 error (bad input, failed\n"
-"--check, collisions that do not settle), 2 usage.\n");
+"thread count or the pinning.  Progress shows after a second on a terminal\n"
+"(elsewhere a line every 10 s), also inside a long step.  SIGINT or SIGTERM\n"
+"stops a run within a moment, without outputs, and psim ends by the signal\n"
+"(status 130, 143); a second one ends it at once.  Exit status: 0 ok,\n"
+"1 error (bad input, failed --check, collisions that do not settle), 2 usage.\n");
 }
 
 /* The options of the outputs, in the order of output_paths. */
