@@ -281,19 +281,20 @@ static int interact(psim_sim *e, void *p, psim_error *err)
     e->stats.skipped[CS_PAIRS] += !pairs;
     e->stats.skipped[CS_WALLS] += !walls;
     m->oom = 0;
-    uint64_t found = e->stats.counter[CC_PAIR_CANDIDATES];
     if (rc == 0)
         PSIM_TIMED(e, CPHASE_DETECT, pairs   ? ccd_detect(e, m)
                                      : walls ? ccd_detect_walls(e, m)
                                              : detect_none(m));
-    found = e->stats.counter[CC_PAIR_CANDIDATES] - found;
     if (psim_stop_requested())   /* the tasks ended early */
         return psim_engine_stopped(e, err);
+    /* the order counts the candidates it gathers from the lists */
+    uint64_t found = e->stats.counter[CC_PAIR_CANDIDATES];
+    if (rc == 0 && !m->oom)
+        PSIM_TIMED(e, CPHASE_ORDER, rc = ccd_order(e, m));
+    found = e->stats.counter[CC_PAIR_CANDIDATES] - found;
     /* a search that found no pair candidate: how long no pair can meet */
     if (rc == 0 && pairs && found == 0 && m->skip && !m->oom)
         PSIM_TIMED(e, CPHASE_DETECT, ccd_flight_measure(e, m));
-    if (rc == 0 && !m->oom)
-        PSIM_TIMED(e, CPHASE_ORDER, rc = ccd_order(e, m));
     if (rc == 0 && !m->oom)
         PSIM_TIMED(e, CPHASE_ACCEPT, rc = ccd_accept(e, m));
     if (psim_stop_requested())   /* acceptance ended early */
