@@ -201,7 +201,12 @@ kill_run()
     # (job control on: a background job of a script would otherwise start
     # with SIGINT and SIGQUIT ignored, and psim keeps them ignored)
     set -m
-    env PSIM_TMPFILE="$([[ $pass == fallback ]] && echo 0 || echo 1)" "$PSIM" -q --threads 1 \
+    # (a sanitizer's runtime catches the fault signals to report them: here
+    # they come from outside, as a death, and go to psim)
+    local fault=handle_segv=0:handle_sigbus=0:handle_abort=0:handle_sigtrap=0
+    env ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}$fault" \
+        TSAN_OPTIONS="${TSAN_OPTIONS:+$TSAN_OPTIONS:}$fault" \
+        PSIM_TMPFILE="$([[ $pass == fallback ]] && echo 0 || echo 1)" "$PSIM" -q --threads 1 \
         --out "$d/k.out" --trace "$d/k.trace" --stats "$d/k.json" --restart "$d/k.rs" \
         --restart-every 2 "$d/big.in" &
     local pid=$!
