@@ -1,11 +1,11 @@
-/* SIGINT and SIGTERM while a run steps: a request to stop, not a kill
- * (cli.h).  The run stops at its next poll (src/engine/poll.h), fails with
- * one line, removes its temporary outputs as any failed run does, and
- * psim then ends by the signal.  Outside the steps, and for a second
- * signal, the handlers there were before (src/cli/util.c's, which remove
- * the temporary files and end psim at once) stay in charge. */
+/* SIGINT and SIGTERM: taken by a thread of their own (cli.h).  While a
+ * run steps, the first is a request to stop: the run stops at its next
+ * poll (src/engine/poll.h), fails with one line, removes its temporary
+ * outputs as any failed run does, and psim then ends by the signal. */
+#include <pthread.h>
 #include <signal.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "cli.h"
@@ -14,96 +14,103 @@
 static const int stops[] = {SIGINT, SIGTERM};
 #define NSTOPS ((int)(sizeof stops / sizeof stops[0]))
 
-static struct sigaction before[NSTOPS], before_alarm;
-static int armed[NSTOPS];
-static volatile sig_atomic_t asked;        /* the signal that asked; 0: none */
-static volatile sig_atomic_t alarm_taken;  /* SIGALRM is on_grace's */
+static sigset_t watched;   /* the signals the thread waits for */
+static int armed;          /* a run steps (atomic) */
+static int asked;          /* the signal that asked to stop; 0: none (atomic) */
 
-/* One line on stderr from a handler (write is async-signal-safe). */
+/* One line on stderr. */
 static void say(const char *line)
 {
     ssize_t w = write(STDERR_FILENO, line, strlen(line));
     (void)w;
 }
 
-/* End now by sig, through the handler there was before (it is delivered
- * once this handler returns, or at once from another handler). */
+/* End psim by sig now, its named temporary files removed. */
 static void end_now(int sig)
 {
-    for (int k = 0; k < NSTOPS; k++)
-        if (stops[k] == sig && armed[k])
-            sigaction(sig, &before[k], NULL);
+    cli_remove_temps();
+    signal(sig, SIG_DFL);
+    sigset_t one;
+    sigemptyset(&one);
+    sigaddset(&one, sig);
+    pthread_sigmask(SIG_UNBLOCK, &one, NULL);
     raise(sig);
+    _exit(128 + sig);   /* not reached: the shell's status for sig */
 }
 
-static void on_grace(int sig)
+/* The first signal while a run steps: ask it to stop, then wait for it
+ * (main ends psim once it has stopped) or for a second signal. */
+static void stop_then_wait(int sig)
 {
-    (void)sig;
-    say(asked == SIGTERM ? "psim: SIGTERM: the run did not stop in time: ended at once\n"
-                         : "psim: SIGINT: the run did not stop in time: ended at once\n");
-    end_now(asked);
-}
-
-static void on_stop(int sig)
-{
-    if (asked) {   /* a second one */
-        say(sig == SIGTERM ? "psim: SIGTERM again: ended at once\n"
-                           : "psim: SIGINT again: ended at once\n");
-        end_now(sig);
-        return;
-    }
-    asked = sig;
+    __atomic_store_n(&asked, sig, __ATOMIC_RELEASE);
     psim_request_stop();
-    struct sigaction a;
-    memset(&a, 0, sizeof a);
-    a.sa_handler = on_grace;
-    sigemptyset(&a.sa_mask);
-    if (sigaction(SIGALRM, &a, NULL) == 0) {
-        alarm_taken = 1;
-        alarm(CLI_STOP_GRACE_S);
-    }
+    struct timespec grace = {CLI_STOP_GRACE_S, 0};
+    int again = sigtimedwait(&watched, NULL, &grace);
+    const char *name = sig == SIGTERM ? "SIGTERM" : "SIGINT";
+    char line[96];
+    if (again > 0)
+        snprintf(line, sizeof line, "psim: %s again: ended at once\n",
+                 again == SIGTERM ? "SIGTERM" : "SIGINT");
+    else
+        snprintf(line, sizeof line, "psim: %s: the run did not stop in time: ended at once\n",
+                 name);
+    say(line);
+    end_now(again > 0 ? again : sig);
 }
 
-void cli_interrupt_arm(void)
+static void *watch(void *unused)
 {
-    sigaction(SIGALRM, NULL, &before_alarm);
-    struct sigaction a;
-    memset(&a, 0, sizeof a);
-    a.sa_handler = on_stop;
-    a.sa_flags = SA_RESTART;   /* writes and reads go on */
-    sigemptyset(&a.sa_mask);
+    (void)unused;
+    for (;;) {
+        int sig;
+        if (sigwait(&watched, &sig) != 0)
+            continue;
+        if (__atomic_load_n(&armed, __ATOMIC_ACQUIRE))
+            stop_then_wait(sig);
+        else
+            end_now(sig);
+    }
+    return NULL;
+}
+
+void cli_interrupt_start(void)
+{
+    sigemptyset(&watched);
     for (int k = 0; k < NSTOPS; k++) {
-        if (sigaction(stops[k], NULL, &before[k]) || before[k].sa_handler == SIG_IGN)
-            continue;   /* ignored by the parent (nohup): it stays so */
-        armed[k] = sigaction(stops[k], &a, NULL) == 0;
+        struct sigaction was;
+        if (sigaction(stops[k], NULL, &was) == 0 && was.sa_handler != SIG_IGN)
+            sigaddset(&watched, stops[k]);   /* (ignored by the parent: it stays so) */
     }
+    sigset_t before;
+    if (pthread_sigmask(SIG_BLOCK, &watched, &before) != 0)
+        return;
+    pthread_attr_t attr;
+    pthread_t t;
+    int ok = pthread_attr_init(&attr) == 0;
+    if (ok) {
+        pthread_attr_setstacksize(&attr, 256 * 1024);
+        pthread_attr_setdetachstate(&attr, PTHREAD_CREATE_DETACHED);
+        ok = pthread_create(&t, &attr, watch, NULL) == 0;
+        pthread_attr_destroy(&attr);
+    }
+    if (!ok)   /* no thread: the signals' handlers (outfile.c) take them */
+        pthread_sigmask(SIG_SETMASK, &before, NULL);
 }
 
-void cli_interrupt_disarm(void)
+void cli_interrupt_arm(void) { __atomic_store_n(&armed, 1, __ATOMIC_RELEASE); }
+
+void cli_interrupt_disarm(void) { __atomic_store_n(&armed, 0, __ATOMIC_RELEASE); }
+
+int cli_interrupted(void) { return __atomic_load_n(&asked, __ATOMIC_ACQUIRE); }
+
+const char *cli_interrupt_name(void)
 {
-    for (int k = 0; k < NSTOPS; k++)
-        if (armed[k]) {
-            sigaction(stops[k], &before[k], NULL);
-            armed[k] = 0;
-        }
-    if (alarm_taken) {
-        alarm(0);
-        sigaction(SIGALRM, &before_alarm, NULL);
-        alarm_taken = 0;
-    }
+    return cli_interrupted() == SIGTERM ? "SIGTERM" : "SIGINT";
 }
-
-int cli_interrupted(void) { return asked; }
-
-const char *cli_interrupt_name(void) { return asked == SIGTERM ? "SIGTERM" : "SIGINT"; }
 
 void cli_interrupt_raise(void)
 {
-    int sig = asked;
-    if (!sig)
-        return;
-    cli_interrupt_disarm();
-    signal(sig, SIG_DFL);
-    raise(sig);
-    _exit(128 + sig);   /* the signal blocked: the shell's status for it */
+    int sig = cli_interrupted();
+    if (sig)
+        end_now(sig);
 }

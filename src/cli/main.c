@@ -56,6 +56,7 @@ int main(int argc, char **argv)
         cli_err("psim: cannot open /dev/null on a closed standard descriptor");
         return 1;
     }
+    cli_interrupt_start();   /* before any other thread, which inherits the mask */
     if (cli_env_threads())
         return 2;
     cli_set_argv(argv);

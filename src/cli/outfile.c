@@ -21,11 +21,16 @@
 #define MAX_TEMPS 8
 static char *volatile temps[MAX_TEMPS];
 
-static void on_signal(int sig)
+void cli_remove_temps(void)
 {
     for (int k = 0; k < MAX_TEMPS; k++)
         if (temps[k])
             unlink(temps[k]);
+}
+
+static void on_signal(int sig)
+{
+    cli_remove_temps();
     signal(sig, SIG_DFL);
     raise(sig);
 }
