@@ -46,26 +46,27 @@ static void speed_text(double S, char *buf, size_t size)
         snprintf(buf, size, "more than %g", DBL_MAX);
 }
 
+/* A header value (what, on header line `line`) within its limit. */
+static int header_value(const psim_sim *e, const psim_scene *sc, const psim_limit *lim,
+                        int line, const char *what, double v, psim_error *err)
+{
+    if (!(lim->most > 0) || v <= lim->most)
+        return 0;
+    char at[320];
+    psim_scene_where_header(sc, line, at, sizeof at);
+    psim_error_set(err, "%s%s = %g is too large for the %s model (at most %g: %s would overflow)",
+                   at, what, v, e->model->name, lim->most, lim->why);
+    return -1;
+}
+
 static int box_radius(const psim_sim *e, const psim_scene *sc, const psim_limits *lim,
                       psim_error *err)
 {
-    const psim_limit *b = &lim->at[PSIM_LIMIT_BOX], *r = &lim->at[PSIM_LIMIT_RADIUS];
-    char at[320];
-    if (b->most > 0 && !(sc->L <= b->most)) {
-        psim_scene_where_header(sc, PSIM_LINE_L, at, sizeof at);
-        psim_error_set(err, "%sbox side L = %g is too large for the %s model (at most %g: %s "
-                            "would overflow)",
-                       at, sc->L, e->model->name, b->most, b->why);
-        return -1;
-    }
-    if (r->most > 0 && !(sc->r <= r->most)) {
-        psim_scene_where_header(sc, PSIM_LINE_R, at, sizeof at);
-        psim_error_set(err, "%sradius r = %g is too large for the %s model (at most %g: %s "
-                            "would overflow)",
-                       at, sc->r, e->model->name, r->most, r->why);
-        return -1;
-    }
-    return 0;
+    return header_value(e, sc, &lim->at[PSIM_LIMIT_BOX], PSIM_LINE_L, "box side L", sc->L, err) ||
+                   header_value(e, sc, &lim->at[PSIM_LIMIT_RADIUS], PSIM_LINE_R, "radius r",
+                                sc->r, err)
+               ? -1
+               : 0;
 }
 
 static int positions(const psim_sim *e, const psim_scene *sc, const psim_limit *p,
