@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
-# Install psim's build and test dependencies on Debian 12 (as root or with sudo).
+# Install what building and running psim need on Debian 12 (as root or with
+# sudo): the compiler, CMake, Ninja, pkg-config, hwloc and jemalloc, and
+# python3 (the man page and the completion are written from --help at build
+# time).  The tests' extra packages: scripts/install-test-deps.sh.
 set -euo pipefail
-pkgs=(build-essential g++ cmake ninja-build pkg-config libjemalloc-dev libhwloc-dev
-      hwloc python3 python3-matplotlib python3-pil valgrind)
+pkgs=(build-essential cmake ninja-build pkg-config libjemalloc-dev libhwloc-dev python3)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")

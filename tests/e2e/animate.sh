@@ -18,7 +18,7 @@ for py in python3 /usr/bin/python3; do
         break
     fi
 done
-[[ -n $PY ]] || fail "no python3 with PIL (run scripts/install-deps.sh)"
+[[ -n $PY ]] || fail "no python3 with PIL (run scripts/install-test-deps.sh)"
 
 # 3 disks in a box of side 10, radius 1, 5 steps
 cat >"$tmp/scene.in" <<'EOF'

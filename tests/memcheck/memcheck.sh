@@ -9,7 +9,7 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 source "$(dirname "$0")/../e2e/lib.sh" "$@"
 SUPP=$(cd "$(dirname "$0")" && pwd)/valgrind.supp
-command -v valgrind >/dev/null || fail "valgrind is not installed (scripts/install-deps.sh installs it)"
+command -v valgrind >/dev/null || fail "valgrind is not installed (scripts/install-test-deps.sh installs it)"
 
 # the wait policy given, so that psim never starts itself again (out of
 # valgrind) on a busy machine (docs/design.md)

@@ -6,7 +6,7 @@
 set -u
 c_exe=$1 ref_exe=${2:-}
 if [ -z "$ref_exe" ] || [ ! -x "$ref_exe" ]; then
-  echo "FAIL: no C++ reference program: CMake found no C++ compiler (install g++: scripts/install-deps.sh)" >&2
+  echo "FAIL: no C++ reference program: CMake found no C++ compiler (install g++: scripts/install-test-deps.sh)" >&2
   exit 1
 fi
 tmp=$(mktemp -d) || exit 1
