@@ -1,6 +1,8 @@
 /* The psim command line: subcommands and their shared helpers. */
 #ifndef PSIM_CLI_H
 #define PSIM_CLI_H
+#include <getopt.h>
+#include <sched.h>
 #include <stdio.h>
 
 #include <stdint.h>
@@ -22,16 +24,25 @@ void cli_version(FILE *f);
  * and -1 if not. */
 int cli_env_threads(void);
 
-/* The OpenMP wait policy: left to the runtime (threads spin a while
- * before they sleep) when the machine has a core for each of `threads`
- * besides the threads runnable now; otherwise psim starts again, once,
- * with OMP_WAIT_POLICY=passive (docs/design.md).  The user's
- * OMP_WAIT_POLICY or GOMP_SPINCOUNT is never overridden.  cli_set_argv
- * gives it the command line to start again with; cli_wait_note says why
- * passive was chosen (NULL if it was not). */
-void cli_set_argv(char **argv);
-void cli_choose_wait_policy(int threads);
+/* The CPUs and OpenMP settings a run starts with (affinity.c, fixed
+ * before the OpenMP runtime starts; docs/experiments.md, "Pinning").
+ * cli_start_cpus: the affinity mask psim was started with (NULL if
+ * unknown).  cli_wait_note: why OMP_WAIT_POLICY=passive was chosen (NULL
+ * if it was not: the runtime's default, or the user's own setting).
+ * cli_binders_removed: the runtime's binding variables taken out because
+ * --pin places the threads ("OMP_PROC_BIND=spread ..."; NULL: none).
+ * cli_outside_placement: what places the threads when psim does not
+ * (those variables, likwid-pin; NULL: nothing).  cli_with_start_cpus
+ * calls fn with the calling thread's mask widened back to the start mask
+ * (the runtime may have bound it), then restores it. */
+const cpu_set_t *cli_start_cpus(void);
 const char *cli_wait_note(void);
+const char *cli_binders_removed(void);
+const char *cli_outside_placement(void);
+int cli_with_start_cpus(int (*fn)(void *), void *ctx);
+/* The run's options, for parse_run and the start's reading of them. */
+extern const struct option cli_run_longs[];
+extern const char cli_run_shorts[];
 
 /* Threads (threads.c): the count asked, capped by the OpenMP thread limit
  * (OMP_THREAD_LIMIT; cli_threads_note then says so, else NULL); and, under
@@ -137,8 +148,10 @@ void progress_inside(progress *p, long done, const psim_step_progress *r);
 void progress_inside_times(const progress *p, double *first_s, double *every_s);
 
 /* SIGINT and SIGTERM (interrupt.c).  cli_interrupt_start, first thing in
- * main, blocks them in every thread psim will start and hands them to a
- * thread of their own that waits for them (sigwait): they are taken at
+ * main, blocks them in every thread psim will start; cli_interrupt_watch
+ * hands them to a thread of their own that waits for them (sigwait),
+ * started after a run's OpenMP threads, so that a tool that places
+ * threads in the order they start (likwid-pin) places those: they are taken at
  * once whatever the other threads run (an instrumented build delays a
  * handler until its thread calls into the runtime), and nothing is done
  * in a signal handler.  While a run steps (cli_interrupt_arm ..
@@ -154,6 +167,7 @@ void progress_inside_times(const progress *p, double *first_s, double *every_s);
  * psim at once, as for the other signals. */
 #define CLI_STOP_GRACE_S 3
 void cli_interrupt_start(void);
+void cli_interrupt_watch(void);
 void cli_interrupt_arm(void);
 void cli_interrupt_disarm(void);
 int cli_interrupted(void);          /* the signal that asked to stop; 0: none */
@@ -211,7 +225,10 @@ typedef struct cli_pin {
 int cli_pin_option(cli_pin *p, int opt, const char *arg);
 /* Load, plan, set the memory policy and bind; -1 after printing an error. */
 int cli_pin_setup(cli_pin *p, int threads, int quiet);
-void cli_pin_summary(FILE *f, const cli_pin *p);
+/* The run summary's placement line: the plan and where each thread ran
+ * (with --pin), or where each ran when the OpenMP runtime or likwid-pin
+ * placed them. */
+void cli_pin_summary(FILE *f, const cli_pin *p, const psim_sim *s);
 char *cli_pin_json(const cli_pin *p);  /* malloc'd JSON members */
 void cli_pin_free(cli_pin *p);
 

@@ -15,6 +15,7 @@ static const int stops[] = {SIGINT, SIGTERM};
 #define NSTOPS ((int)(sizeof stops / sizeof stops[0]))
 
 static sigset_t watched;   /* the signals the thread waits for */
+static sigset_t before;    /* the mask psim started with */
 static int armed;          /* a run steps (atomic) */
 static int asked;          /* the signal that asked to stop; 0: none (atomic) */
 
@@ -81,8 +82,13 @@ void cli_interrupt_start(void)
         if (sigaction(stops[k], NULL, &was) == 0 && was.sa_handler != SIG_IGN)
             sigaddset(&watched, stops[k]);   /* (ignored by the parent: it stays so) */
     }
-    sigset_t before;
-    if (pthread_sigmask(SIG_BLOCK, &watched, &before) != 0)
+    pthread_sigmask(SIG_BLOCK, &watched, &before);
+}
+
+void cli_interrupt_watch(void)
+{
+    static int started;
+    if (started++)
         return;
     pthread_attr_t attr;
     pthread_t t;

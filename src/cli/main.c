@@ -13,15 +13,17 @@
 
 static int command(int argc, char **argv)
 {
-    if (argc > 1 && strcmp(argv[1], "gen") == 0)
-        return cli_gen(argc - 1, argv + 1);
-    if (argc > 1 && (strcmp(argv[1], "plan") == 0 || strcmp(argv[1], "topo") == 0))
-        return cli_plan(argc - 1, argv + 1);
-    if (argc > 1 && strcmp(argv[1], "models") == 0)
-        return cli_models(argc - 1, argv + 1);
     if (argc > 1 && strcmp(argv[1], "run") == 0)
         return cli_run(argc - 1, argv + 1);
-    return cli_run(argc, argv);
+    if (argc < 2 || (strcmp(argv[1], "gen") && strcmp(argv[1], "plan") &&
+                     strcmp(argv[1], "topo") && strcmp(argv[1], "models")))
+        return cli_run(argc, argv);
+    cli_interrupt_watch();   /* (a run starts it after its OpenMP threads) */
+    if (strcmp(argv[1], "gen") == 0)
+        return cli_gen(argc - 1, argv + 1);
+    if (strcmp(argv[1], "models") == 0)
+        return cli_models(argc - 1, argv + 1);
+    return cli_plan(argc - 1, argv + 1);
 }
 
 /* Descriptors 0, 1 and 2 open before psim opens anything: a file opened
@@ -59,7 +61,6 @@ int main(int argc, char **argv)
     cli_interrupt_start();   /* before any other thread, which inherits the mask */
     if (cli_env_threads())
         return 2;
-    cli_set_argv(argv);
     int rc = command(argc, argv);
     if ((fflush(stdout) != 0 || ferror(stdout)) && rc == 0) {
         cli_err("psim: <stdout>: write failed: %s", strerror(errno ? errno : EIO));

@@ -9,6 +9,30 @@
 #include "cli.h"
 #include "psim/topology.h"
 
+struct topo_load {
+    const char *xml;
+    psim_error *err;
+    psim_topo *topo;
+};
+
+/* psim_topo_load reads the CPUs the process may use from its threads'
+ * masks: called with the start mask back on this thread, it sees every
+ * CPU psim was given, even where the OpenMP runtime bound this thread to
+ * one of them (OMP_PROC_BIND) or likwid-pin did. */
+static int load_topology(void *ctx)
+{
+    struct topo_load *l = ctx;
+    l->topo = psim_topo_load(l->xml, l->err);
+    return l->topo ? 0 : -1;
+}
+
+static psim_topo *load_topo(const char *xml, psim_error *err)
+{
+    struct topo_load load = {xml, err, NULL};
+    cli_with_start_cpus(load_topology, &load);
+    return load.topo;
+}
+
 int cli_pin_setup(cli_pin *p, int threads, int quiet)
 {
     psim_error err = {{0}, 0};
@@ -18,7 +42,7 @@ int cli_pin_setup(cli_pin *p, int threads, int quiet)
                  p->topology || p->dry_run;
     if (!needed)
         return 0; /* no topology is loaded for a run that does not pin */
-    p->topo = psim_topo_load(p->topology, &err);
+    p->topo = load_topo(p->topology, &err);
     if (!p->topo || psim_pin_plan_make(p->topo, &p->policy, threads, &p->plan, &err)) {
         cli_err("psim: %s", err.msg);
         return -1;
@@ -75,10 +99,31 @@ char *cli_pin_json(const cli_pin *p)
     return s;
 }
 
-void cli_pin_summary(FILE *f, const cli_pin *p)
+/* Where the threads ran when something other than psim placed them. */
+static void outside_summary(FILE *f, const psim_sim *s)
 {
-    if (!p->plan.slot)
+    const char *by = cli_outside_placement();
+    int threads = 0;
+    const psim_thread_stats *ts = psim_get_thread_stats(s, &threads);
+    if (!by || !ts)
         return;
+    fprintf(f, "  thread->PU");
+    for (int k = 0; k < threads; k++)
+        fprintf(f, " %d->%d", k, ts[k].cpu);
+    fprintf(f, " (placed by %s)\n", by);
+}
+
+void cli_pin_summary(FILE *f, const cli_pin *p, const psim_sim *s)
+{
+    if (!p->plan.slot) {
+        outside_summary(f, s);
+        return;
+    }
+    if (cli_binders_removed() && psim_topo_is_this_system(p->topo))
+        fprintf(f, "  --pin places the threads: %s not given to the OpenMP runtime\n",
+                cli_binders_removed());
+    if (getenv("LIKWID_PIN") && psim_topo_is_this_system(p->topo))
+        fprintf(f, "  --pin places the threads: likwid-pin's placement replaced\n");
     char name[32];
     int as_planned = 1;
     fprintf(f, "  --pin=%s: thread->PU", psim_pin_name(&p->policy, name, sizeof name));
@@ -186,7 +231,7 @@ int cli_plan(int argc, char **argv)
     if (cli_check_paths(who, &in, 1, &out, 1))
         return 2;
     psim_error err = {{0}, 0};
-    p.topo = psim_topo_load(p.topology, &err);
+    p.topo = load_topo(p.topology, &err);
     if (!p.topo) {
         cli_err("psim: %s", err.msg);
         return 1;

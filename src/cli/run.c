@@ -115,7 +115,12 @@ static void run_usage(FILE *f)
 "                    imbalance of each phase\n"
 "      --tile N      cells per tile side, a power of two (default: automatic)\n"
 "      --pin POLICY  bind threads with hwloc: pcores, ecores, cores, all,\n"
-"                    numa:K or none (default); see psim plan --help\n"
+"                    numa:K or none (default); see psim plan --help.  Threads\n"
+"                    stay on the CPUs psim was started with (taskset,\n"
+"                    likwid-pin); --pin places them itself, and OMP_PROC_BIND,\n"
+"                    OMP_PLACES and GOMP_CPU_AFFINITY are then not given to\n"
+"                    the OpenMP runtime; without --pin they (or likwid-pin)\n"
+"                    place the threads\n"
 "      --topology F  plan against the hwloc XML topology F of another machine\n"
 "      --mem POLICY  local (first touch, default) or interleave over NUMA nodes\n"
 "      --dry-run     print the thread placement of --pin and exit\n"
@@ -212,32 +217,34 @@ static int resolve_s(run_opts *o)
     return cli_long("-s", o->s_text, 0, PSIM_MAX_STEPS, &o->steps);
 }
 
+const struct option cli_run_longs[] = {
+    {"threads", required_argument, 0, 't'}, {"steps", required_argument, 0, 'P'},
+    {"seed", required_argument, 0, 'e'},    {"option", required_argument, 0, 'O'},
+    {"naive", no_argument, 0, 'N'},         {"force-stats", no_argument, 0, 'F'},
+    {"out", required_argument, 0, 'o'},     {"trace", required_argument, 0, 'T'},
+    {"final", required_argument, 0, 'Z'},
+    {"digits", required_argument, 0, 'd'},  {"check", no_argument, 0, 'c'},
+    {"stats", required_argument, 0, 'S'},   {"tile", required_argument, 0, 'L'},
+    {"quiet", no_argument, 0, 'q'},         {"help", no_argument, 0, 'h'},
+    {"version", no_argument, 0, 'V'},
+    {"pin", required_argument, 0, CLI_OPT_PIN},
+    {"topology", required_argument, 0, CLI_OPT_TOPOLOGY},
+    {"mem", required_argument, 0, CLI_OPT_MEM},
+    {"dry-run", no_argument, 0, CLI_OPT_DRY_RUN},
+    {"report", no_argument, 0, 'R'},
+    {"model", required_argument, 0, 'm'},
+    {"substeps", required_argument, 0, 'K'},
+    {"thermo", required_argument, 0, 'H'},
+    {"thermo-file", required_argument, 0, 'Y'},
+    {"dump", required_argument, 0, 'D'},
+    {"dump-every", required_argument, 0, 'E'},
+    {"restart", required_argument, 0, 'W'},
+    {"restart-every", required_argument, 0, 'X'},
+    {0, 0, 0, 0}};
+const char cli_run_shorts[] = ":t:s:o:m:n:O:qhV";
+
 static int parse_run(int argc, char **argv, run_opts *o)
 {
-    static const struct option longs[] = {
-        {"threads", required_argument, 0, 't'}, {"steps", required_argument, 0, 'P'},
-        {"seed", required_argument, 0, 'e'},    {"option", required_argument, 0, 'O'},
-        {"naive", no_argument, 0, 'N'},         {"force-stats", no_argument, 0, 'F'},
-        {"out", required_argument, 0, 'o'},     {"trace", required_argument, 0, 'T'},
-        {"final", required_argument, 0, 'Z'},
-        {"digits", required_argument, 0, 'd'},  {"check", no_argument, 0, 'c'},
-        {"stats", required_argument, 0, 'S'},   {"tile", required_argument, 0, 'L'},
-        {"quiet", no_argument, 0, 'q'},         {"help", no_argument, 0, 'h'},
-        {"version", no_argument, 0, 'V'},
-        {"pin", required_argument, 0, CLI_OPT_PIN},
-        {"topology", required_argument, 0, CLI_OPT_TOPOLOGY},
-        {"mem", required_argument, 0, CLI_OPT_MEM},
-        {"dry-run", no_argument, 0, CLI_OPT_DRY_RUN},
-        {"report", no_argument, 0, 'R'},
-        {"model", required_argument, 0, 'm'},
-        {"substeps", required_argument, 0, 'K'},
-        {"thermo", required_argument, 0, 'H'},
-        {"thermo-file", required_argument, 0, 'Y'},
-        {"dump", required_argument, 0, 'D'},
-        {"dump-every", required_argument, 0, 'E'},
-        {"restart", required_argument, 0, 'W'},
-        {"restart-every", required_argument, 0, 'X'},
-        {0, 0, 0, 0}};
     memset(o, 0, sizeof *o);
     o->steps = -1;
     o->n = -1;
@@ -245,7 +252,7 @@ static int parse_run(int argc, char **argv, run_opts *o)
     o->substeps = 1;
     opterr = 0;
     int c;
-    while ((c = getopt_long(argc, argv, ":t:s:o:m:n:O:qhV", longs, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, cli_run_shorts, cli_run_longs, NULL)) != -1) {
         switch (c) {
         case 'm':
             if (!known_model(optarg)) {
@@ -747,6 +754,17 @@ static int on_stdout(const outfile *o)
     return o->f == stdout;
 }
 
+/* The run's OpenMP threads first, then the thread that takes SIGINT and
+ * SIGTERM: a tool that places threads in the order they start
+ * (likwid-pin) gives its CPUs to the threads that work. */
+static void start_threads(void)
+{
+    static int started;   /* (a region with no work would be left out) */
+#pragma omp parallel
+    __atomic_fetch_add(&started, 1, __ATOMIC_RELAXED);
+    cli_interrupt_watch();
+}
+
 int cli_run(int argc, char **argv)
 {
     run_opts o;
@@ -765,11 +783,8 @@ int cli_run(int argc, char **argv)
               threads = cli_threads_cap(asked);
     if (threads < asked)
         o.threads = threads;   /* the runtime would start no more */
-    if (!o.pin.dry_run) {
-        cli_choose_wait_policy(threads);
-        if (cli_threads_startable(threads))
-            goto done;
-    }
+    if (!o.pin.dry_run && cli_threads_startable(threads))
+        goto done;
     if (o.pin.dry_run) {
         if (cli_pin_setup(&o.pin, (int)o.threads, o.quiet) == 0) {
             psim_pin_plan_print(stdout, o.pin.topo, &o.pin.plan);
@@ -780,6 +795,7 @@ int cli_run(int argc, char **argv)
     /* the scene is read with the threads asked for (all by default) */
     if (o.threads)
         omp_set_num_threads((int)o.threads);
+    start_threads();
     double t_read = psim_now();
     if (load_scene(&o, &sc, &err)) {
         cli_err("psim: %s", err.msg);
@@ -878,7 +894,7 @@ int cli_run(int argc, char **argv)
     if (!o.quiet) {
         psim_print_source_summary(info, s, loop_s);
         print_summary(info, &o, &sc, s, secs);
-        cli_pin_summary(info, &o.pin);
+        cli_pin_summary(info, &o.pin, s);
     }
     if (o.report)
         cli_report(info, s, &o.pin);
