@@ -164,18 +164,23 @@ void cli_interrupt_raise(void);     /* end by it, if one asked */
 
 /* --thermo N and --thermo-file (thermo.c): rows at the start, every
  * `every` steps and after the last step; the table to `table` (NULL: none),
- * CSV to `csv` (NULL: none). */
+ * CSV to `csv` (NULL: none).  With speed (--thermo-speed), a last column
+ * of steps per second of wall time since the previous row: the one
+ * column read from the clock, so left out unless asked for, which keeps
+ * the rows the same bytes from run to run. */
 typedef struct cli_thermo {
     long every;             /* 0: no rows */
+    int speed;
     FILE *table, *csv;
     int ncols, pressure;
     const char *col[PSIM_THERMO_MAX];
     uint64_t last[PSIM_THERMO_MAX];
     double last_virial;
     long last_step;
+    double last_wall;       /* psim_now() at the previous row */
 } cli_thermo;
 
-void thermo_init(cli_thermo *t, long every);
+void thermo_init(cli_thermo *t, long every, int speed);
 /* The header and the row of the state before the first step; then after
  * step k of steps.  0, or -1 with err set: no memory, or a total beyond
  * the largest double (a state whose squared speeds overflow is summed

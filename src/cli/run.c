@@ -19,6 +19,7 @@ typedef struct run_opts {
     long restart_every;     /* --restart-every N (0: at the end only) */
     long threads, steps, digits, tile, substeps;
     long thermo;            /* --thermo N (0: none; LONG_MAX: first and last) */
+    int thermo_speed;       /* --thermo-speed */
     long n;                 /* -n: the model's own initial state (-1: none) */
     unsigned long long seed;
     const char *s_text;     /* -s: the steps, or with -n the seed (CS267) */
@@ -105,12 +106,15 @@ static void run_usage(FILE *f)
 "                    scripts/animate): steps 0, N, 2N, ... and the last\n"
 "      --dump-every N  the frame interval of --dump (default 1)\n"
 "      --thermo N    every N steps (and at the start and end) print the\n"
-"                    state's kinetic energy, momentum, the model's collision\n"
-"                    counts since the last row, the pressure from the\n"
-"                    collision virial (event model) and the overlapping pairs,\n"
-"                    as a table on stderr\n"
+"                    model time, the state's kinetic energy, temperature\n"
+"                    (kinetic energy per disk) and momentum, the model's\n"
+"                    collision counts since the last row, the pressure from\n"
+"                    the collision virial (event model) and the overlapping\n"
+"                    pairs, as a table on stderr\n"
 "      --thermo-file FILE  the same rows as CSV (without --thermo: the first\n"
 "                    and last step)\n"
+"      --thermo-speed  add the steps per second of wall time since the last\n"
+"                    row (the one column that differs from run to run)\n"
 "      --report      print the per-thread, per-phase profile with the load\n"
 "                    imbalance of each phase\n"
 "      --tile N      cells per tile side, a power of two (default: automatic)\n"
@@ -233,6 +237,7 @@ static int parse_run(int argc, char **argv, run_opts *o)
         {"substeps", required_argument, 0, 'K'},
         {"thermo", required_argument, 0, 'H'},
         {"thermo-file", required_argument, 0, 'Y'},
+        {"thermo-speed", no_argument, 0, 'J'},
         {"dump", required_argument, 0, 'D'},
         {"dump-every", required_argument, 0, 'E'},
         {"restart", required_argument, 0, 'W'},
@@ -271,6 +276,7 @@ static int parse_run(int argc, char **argv, run_opts *o)
         case 'S': o->stats = optarg; break;
         case 'H': if (cli_long("--thermo", optarg, 1, PSIM_MAX_STEPS, &o->thermo)) return 2; break;
         case 'Y': o->thermo_file = optarg; break;
+        case 'J': o->thermo_speed = 1; break;
         case 'D': o->dump = optarg; break;
         case 'W': o->restart = optarg; break;
         case 'X': if (cli_long("--restart-every", optarg, 1, PSIM_MAX_STEPS, &o->restart_every)) return 2; break;
@@ -305,6 +311,10 @@ static int parse_run(int argc, char **argv, run_opts *o)
     if (o->restart_every && (!o->restart || !strcmp(o->restart, "-"))) {
         cli_err("psim: --restart-every needs --restart FILE (a file: each checkpoint "
                         "replaces the last)");
+        return 2;
+    }
+    if (o->thermo_speed && !o->thermo && !o->thermo_file) {
+        cli_err("psim: --thermo-speed needs --thermo N or --thermo-file FILE");
         return 2;
     }
     if (o->thermo_file && !o->thermo)
@@ -819,7 +829,7 @@ int cli_run(int argc, char **argv)
         psim_scene_free(&sc);
     rs.style = psim_get_output_style(s);
     rs.print = rs.style.every_step && sc.print;
-    thermo_init(&rs.th, o.thermo);
+    thermo_init(&rs.th, o.thermo, o.thermo_speed);
     int opened = open_outputs(&o, &rs, psim_sim_model(s));
     if (opened) {
         rc = opened;
