@@ -402,6 +402,11 @@ int psim_write_dump(psim_sim *s, FILE *f, long step);
 int psim_write_stats_json(FILE *f, const psim_sim *s, const char *scene_name,
                           double total_s, const char *extra);
 
+/* s as a JSON string, quoted: quotes, backslashes and control characters
+ * escaped, and a byte that is not part of well-formed UTF-8 written as
+ * U+FFFD (NULL: ""). */
+void psim_write_json_string(FILE *f, const char *s);
+
 /* Name of the allocator psim was built with ("jemalloc" or "libc"). */
 const char *psim_allocator(void);
 

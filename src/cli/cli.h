@@ -4,6 +4,7 @@
 #include <stdio.h>
 
 #include <stdint.h>
+#include <time.h>
 
 #include "psim/psim.h"
 #include "psim/topology.h"
@@ -161,6 +162,20 @@ const char *cli_interrupt_name(void);   /* "SIGINT", "SIGTERM" */
 /* Remove the named temporary files of the outputs (outfile.c). */
 void cli_remove_temps(void);
 void cli_interrupt_raise(void);     /* end by it, if one asked */
+
+/* Where a run stands at its start, for the provenance of --stats. */
+typedef struct cli_start {
+    time_t date;
+    double load[3];         /* the load averages, over 1, 5 and 15 minutes */
+    int load_ok;
+} cli_start;
+void cli_start_note(cli_start *st);
+/* The "provenance" member of --stats (malloc'd; NULL without memory): the
+ * version, git commit and build options (as --version gives them), the
+ * host's name and CPU model, the date the run started (ISO 8601, UTC),
+ * the command line, and the load averages at the start and now (a shared
+ * machine's load is what makes timings differ). */
+char *cli_provenance_json(const cli_start *st);
 
 /* --thermo N and --thermo-file (thermo.c): rows at the start, every
  * `every` steps and after the last step; the table to `table` (NULL: none),

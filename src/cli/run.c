@@ -760,6 +760,8 @@ static int on_stdout(const outfile *o)
 int cli_run(int argc, char **argv)
 {
     run_opts o;
+    cli_start start;
+    cli_start_note(&start);
     int rc = parse_run(argc, argv, &o);
     if (rc) {
         free(o.options);
@@ -866,15 +868,16 @@ int cli_run(int argc, char **argv)
     if ((o.report || o.stats) && !o.pin.topo)
         o.pin.topo = psim_topo_load(NULL, &err); /* for the CPU kinds; may fail */
     if (rs.stats.f) {
-        char *pin_json = cli_pin_json(&o.pin), *thr_json = cli_threads_json(s, &o.pin);
+        char *pin_json = cli_pin_json(&o.pin), *thr_json = cli_threads_json(s, &o.pin),
+             *prov_json = cli_provenance_json(&start);
         char *extra = NULL;
-        if (pin_json && thr_json &&
-            asprintf(&extra, "  \"read_s\": %.6f,\n  \"peak_rss_bytes\": %lld,\n%s,\n%s\n",
-                     o.read_s, cli_peak_rss(), pin_json, thr_json) < 0)
+        if (pin_json && thr_json && prov_json &&
+            asprintf(&extra, "  \"read_s\": %.6f,\n  \"peak_rss_bytes\": %lld,\n%s,\n%s,\n%s\n",
+                     o.read_s, cli_peak_rss(), pin_json, thr_json, prov_json) < 0)
             extra = NULL;
         psim_write_stats_json(rs.stats.f, s,
                               o.scene ? o.scene : o.n >= 0 ? o.label : "default", secs, extra);
-        free(pin_json), free(thr_json), free(extra);
+        free(pin_json), free(thr_json), free(prov_json), free(extra);
     }
     /* the summary goes to stderr when an output is on stdout */
     outfile *outs[RUN_OUTPUTS];
