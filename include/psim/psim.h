@@ -241,6 +241,12 @@ psim_sim *psim_create_taking(psim_scene *sc, const psim_config *cfg,
  * collisions that do not settle, or no memory for the contacts. */
 int psim_step(psim_sim *s, psim_error *err);
 long psim_step_index(const psim_sim *s);   /* steps done so far */
+/* The model time one step advances (the force model's dt; one time unit
+ * for the models whose velocities are per step), and the model time after
+ * `step` steps: step times that (steps numbered on from a restart file's,
+ * as psim_step_index). */
+double psim_step_time(const psim_sim *s);
+double psim_time_at(const psim_sim *s, long step);
 /* 0, or -1 with err naming the step and the lowest id whose position or
  * velocity is NaN or infinite (checked before any state is written). */
 int psim_state_finite(const psim_sim *s, psim_error *err);
@@ -385,14 +391,21 @@ int psim_write_restart(psim_sim *s, FILE *f, long steps);
 
 /* One extended XYZ frame of the current state (--dump), as step: the
  * count, a comment line (the box as Lattice,
- * Properties=id:I:1:pos:R:3:velo:R:3:radius:R:1, Time and step), then
- * "i x y 0 vx vy 0 r" per disk in id order (shortest round-trip). */
+ * Properties=species:S:1:id:I:1:pos:R:3:momenta:R:3:radius:R:1, Time, the
+ * model time psim_time_at(step), and step), then "X i x y 0 vx vy 0 r" per
+ * disk in id order (shortest round-trip; species X, unit masses: the
+ * momenta are the velocities). */
 int psim_write_dump(psim_sim *s, FILE *f, long step);
 
 /* Write the run's statistics as one JSON object.  scene_name may be NULL;
  * extra, if not NULL, holds more members ("key": value, ...) to include. */
 int psim_write_stats_json(FILE *f, const psim_sim *s, const char *scene_name,
                           double total_s, const char *extra);
+
+/* s as a JSON string, quoted: quotes, backslashes and control characters
+ * escaped, and a byte that is not part of well-formed UTF-8 written as
+ * U+FFFD (NULL: ""). */
+void psim_write_json_string(FILE *f, const char *s);
 
 /* Name of the allocator psim was built with ("jemalloc" or "libc"). */
 const char *psim_allocator(void);

@@ -6,6 +6,7 @@
 #include <stdio.h>
 
 #include <stdint.h>
+#include <time.h>
 
 #include "psim/psim.h"
 #include "psim/topology.h"
@@ -36,6 +37,9 @@ int cli_env_threads(void);
  * calls fn with the calling thread's mask widened back to the start mask
  * (the runtime may have bound it), then restores it. */
 const cpu_set_t *cli_start_cpus(void);
+/* The command line as given (getopt permutes main's argv), for the
+ * provenance of --stats. */
+void cli_set_argv(char **argv);
 const char *cli_wait_note(void);
 const char *cli_binders_removed(void);
 const char *cli_outside_placement(void);
@@ -176,20 +180,39 @@ const char *cli_interrupt_name(void);   /* "SIGINT", "SIGTERM" */
 void cli_remove_temps(void);
 void cli_interrupt_raise(void);     /* end by it, if one asked */
 
+/* Where a run stands at its start, for the provenance of --stats. */
+typedef struct cli_start {
+    time_t date;
+    double load[3];         /* the load averages, over 1, 5 and 15 minutes */
+    int load_ok;
+} cli_start;
+void cli_start_note(cli_start *st);
+/* The "provenance" member of --stats (malloc'd; NULL without memory): the
+ * version, git commit and build options (as --version gives them), the
+ * host's name and CPU model, the date the run started (ISO 8601, UTC),
+ * the command line, and the load averages at the start and now (a shared
+ * machine's load is what makes timings differ). */
+char *cli_provenance_json(const cli_start *st);
+
 /* --thermo N and --thermo-file (thermo.c): rows at the start, every
  * `every` steps and after the last step; the table to `table` (NULL: none),
- * CSV to `csv` (NULL: none). */
+ * CSV to `csv` (NULL: none).  With speed (--thermo-speed), a last column
+ * of steps per second of wall time since the previous row: the one
+ * column read from the clock, so left out unless asked for, which keeps
+ * the rows the same bytes from run to run. */
 typedef struct cli_thermo {
     long every;             /* 0: no rows */
+    int speed;
     FILE *table, *csv;
     int ncols, pressure;
     const char *col[PSIM_THERMO_MAX];
     uint64_t last[PSIM_THERMO_MAX];
     double last_virial;
     long last_step;
+    double last_wall;       /* psim_now() at the previous row */
 } cli_thermo;
 
-void thermo_init(cli_thermo *t, long every);
+void thermo_init(cli_thermo *t, long every, int speed);
 /* The header and the row of the state before the first step; then after
  * step k of steps.  0, or -1 with err set: no memory, or a total beyond
  * the largest double (a state whose squared speeds overflow is summed

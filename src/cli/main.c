@@ -61,6 +61,7 @@ int main(int argc, char **argv)
     cli_interrupt_start();   /* before any other thread, which inherits the mask */
     if (cli_env_threads())
         return 2;
+    cli_set_argv(argv);
     int rc = command(argc, argv);
     if ((fflush(stdout) != 0 || ferror(stdout)) && rc == 0) {
         cli_err("psim: <stdout>: write failed: %s", strerror(errno ? errno : EIO));

@@ -19,6 +19,7 @@ typedef struct run_opts {
     long restart_every;     /* --restart-every N (0: at the end only) */
     long threads, steps, digits, tile, substeps;
     long thermo;            /* --thermo N (0: none; LONG_MAX: first and last) */
+    int thermo_speed;       /* --thermo-speed */
     long n;                 /* -n: the model's own initial state (-1: none) */
     unsigned long long seed;
     const char *s_text;     /* -s: the steps, or with -n the seed (CS267) */
@@ -105,12 +106,15 @@ static void run_usage(FILE *f)
 "                    scripts/animate): steps 0, N, 2N, ... and the last\n"
 "      --dump-every N  the frame interval of --dump (default 1)\n"
 "      --thermo N    every N steps (and at the start and end) print the\n"
-"                    state's kinetic energy, momentum, the model's collision\n"
-"                    counts since the last row, the pressure from the\n"
-"                    collision virial (event model) and the overlapping pairs,\n"
-"                    as a table on stderr\n"
+"                    model time, the state's kinetic energy, temperature\n"
+"                    (kinetic energy per disk) and momentum, the model's\n"
+"                    collision counts since the last row, the pressure from\n"
+"                    the collision virial (event model) and the overlapping\n"
+"                    pairs, as a table on stderr\n"
 "      --thermo-file FILE  the same rows as CSV (without --thermo: the first\n"
 "                    and last step)\n"
+"      --thermo-speed  add the steps per second of wall time since the last\n"
+"                    row (the one column that differs from run to run)\n"
 "      --report      print the per-thread, per-phase profile with the load\n"
 "                    imbalance of each phase\n"
 "      --tile N      cells per tile side, a power of two (default: automatic)\n"
@@ -236,6 +240,7 @@ const struct option cli_run_longs[] = {
     {"substeps", required_argument, 0, 'K'},
     {"thermo", required_argument, 0, 'H'},
     {"thermo-file", required_argument, 0, 'Y'},
+    {"thermo-speed", no_argument, 0, 'J'},
     {"dump", required_argument, 0, 'D'},
     {"dump-every", required_argument, 0, 'E'},
     {"restart", required_argument, 0, 'W'},
@@ -278,6 +283,7 @@ static int parse_run(int argc, char **argv, run_opts *o)
         case 'S': o->stats = optarg; break;
         case 'H': if (cli_long("--thermo", optarg, 1, PSIM_MAX_STEPS, &o->thermo)) return 2; break;
         case 'Y': o->thermo_file = optarg; break;
+        case 'J': o->thermo_speed = 1; break;
         case 'D': o->dump = optarg; break;
         case 'W': o->restart = optarg; break;
         case 'X': if (cli_long("--restart-every", optarg, 1, PSIM_MAX_STEPS, &o->restart_every)) return 2; break;
@@ -312,6 +318,10 @@ static int parse_run(int argc, char **argv, run_opts *o)
     if (o->restart_every && (!o->restart || !strcmp(o->restart, "-"))) {
         cli_err("psim: --restart-every needs --restart FILE (a file: each checkpoint "
                         "replaces the last)");
+        return 2;
+    }
+    if (o->thermo_speed && !o->thermo && !o->thermo_file) {
+        cli_err("psim: --thermo-speed needs --thermo N or --thermo-file FILE");
         return 2;
     }
     if (o->thermo_file && !o->thermo)
@@ -768,6 +778,8 @@ static void start_threads(void)
 int cli_run(int argc, char **argv)
 {
     run_opts o;
+    cli_start start;
+    cli_start_note(&start);
     int rc = parse_run(argc, argv, &o);
     if (rc) {
         free(o.options);
@@ -835,7 +847,7 @@ int cli_run(int argc, char **argv)
         psim_scene_free(&sc);
     rs.style = psim_get_output_style(s);
     rs.print = rs.style.every_step && sc.print;
-    thermo_init(&rs.th, o.thermo);
+    thermo_init(&rs.th, o.thermo, o.thermo_speed);
     int opened = open_outputs(&o, &rs, psim_sim_model(s));
     if (opened) {
         rc = opened;
@@ -872,15 +884,16 @@ int cli_run(int argc, char **argv)
     if ((o.report || o.stats) && !o.pin.topo)
         o.pin.topo = psim_topo_load(NULL, &err); /* for the CPU kinds; may fail */
     if (rs.stats.f) {
-        char *pin_json = cli_pin_json(&o.pin), *thr_json = cli_threads_json(s, &o.pin);
+        char *pin_json = cli_pin_json(&o.pin), *thr_json = cli_threads_json(s, &o.pin),
+             *prov_json = cli_provenance_json(&start);
         char *extra = NULL;
-        if (pin_json && thr_json &&
-            asprintf(&extra, "  \"read_s\": %.6f,\n  \"peak_rss_bytes\": %lld,\n%s,\n%s\n",
-                     o.read_s, cli_peak_rss(), pin_json, thr_json) < 0)
+        if (pin_json && thr_json && prov_json &&
+            asprintf(&extra, "  \"read_s\": %.6f,\n  \"peak_rss_bytes\": %lld,\n%s,\n%s,\n%s\n",
+                     o.read_s, cli_peak_rss(), pin_json, thr_json, prov_json) < 0)
             extra = NULL;
         psim_write_stats_json(rs.stats.f, s,
                               o.scene ? o.scene : o.n >= 0 ? o.label : "default", secs, extra);
-        free(pin_json), free(thr_json), free(extra);
+        free(pin_json), free(thr_json), free(prov_json), free(extra);
     }
     /* the summary goes to stderr when an output is on stdout */
     outfile *outs[RUN_OUTPUTS];

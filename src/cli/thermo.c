@@ -1,5 +1,7 @@
 /* --thermo N: the state's totals every N steps, as LAMMPS' thermo output
- * and HOOMD's loggers: a table on stderr and, with --thermo-file, CSV. */
+ * and HOOMD's loggers: a table on stderr and, with --thermo-file, CSV
+ * whose every cell is a number (a value that is not defined, as the
+ * pressure of the first row, is nan), for numpy.loadtxt and the like. */
 #include <float.h>
 #include <math.h>
 #include <string.h>
@@ -7,10 +9,11 @@
 #include "cli.h"
 #include "../engine/timer.h"
 
-void thermo_init(cli_thermo *t, long every)
+void thermo_init(cli_thermo *t, long every, int speed)
 {
     memset(t, 0, sizeof *t);
     t->every = every;
+    t->speed = speed;
 }
 
 /* The columns of a row: the engine's totals, the model's counters since
@@ -24,8 +27,8 @@ static void columns(cli_thermo *t, const psim_sim *s)
 
 static void header(cli_thermo *t)
 {
-    static const char *const base[] = {"step", "ke", "px", "py"};
-    for (int k = 0; k < 4; k++) {
+    static const char *const base[] = {"step", "time", "ke", "temperature", "px", "py"};
+    for (int k = 0; k < 6; k++) {
         if (t->table)
             fprintf(t->table, k ? " %14s" : "%10s", base[k]);
         if (t->csv)
@@ -44,26 +47,40 @@ static void header(cli_thermo *t)
             fputs(",pressure", t->csv);
     }
     if (t->table)
-        fprintf(t->table, " %9s\n", "overlaps");
+        fprintf(t->table, t->speed ? " %9s %10s\n" : " %9s\n", "overlaps", "steps/s");
     if (t->csv)
-        fputs(",overlaps\n", t->csv);
+        fputs(t->speed ? ",overlaps,steps_per_s\n" : ",overlaps\n", t->csv);
 }
 
-/* A number for the CSV: the shortest text that reads back to it. */
+/* A number for the CSV: the shortest text that reads back to it, or nan
+ * where it is not defined. */
 static void csv_num(FILE *f, double v)
 {
-    char b[PSIM_FORMAT_MAX];
-    psim_format_double(b, v, -1);
+    char b[PSIM_FORMAT_MAX] = "nan";
+    if (!isnan(v))
+        psim_format_double(b, v, -1);
     fprintf(f, ",%s", b);
 }
 
-/* The pressure over the interval since the last row, 2D, unit masses:
- * P A = K + W / (2 dt) (K = N kT); NAN for the first row.  Where the area
- * L^2 or the sum overflows, each term is divided by L twice: infinite
- * then only when the pressure itself is beyond the largest double. */
-static double pressure(const cli_thermo *t, const psim_thermo *th, double w)
+/* A number for the table, rounded for reading; "-" where it is not
+ * defined. */
+static void table_num(FILE *f, int width, double v)
 {
-    double dt = (double)(th->step - t->last_step);
+    if (isnan(v))
+        fprintf(f, " %*s", width, "-");
+    else
+        fprintf(f, " %*.8g", width, v);
+}
+
+/* The pressure over the interval since the last row, 2D, unit masses:
+ * P A = K + W / (2 dt) (K = N kT), dt the interval in model time; NAN for
+ * the first row.  Where the area L^2 or the sum overflows, each term is
+ * divided by L twice: infinite then only when the pressure itself is
+ * beyond the largest double. */
+static double pressure(const cli_thermo *t, const psim_sim *s, const psim_thermo *th,
+                       double w)
+{
+    double dt = psim_time_at(s, th->step) - psim_time_at(s, t->last_step);
     if (!(dt > 0))
         return NAN;
     double p = (th->ke + (w - t->last_virial) / (2 * dt)) / th->area;
@@ -93,18 +110,28 @@ static int row(cli_thermo *t, const psim_sim *s, int first, psim_error *err)
     if (rc)
         return -1;
     double w = t->pressure ? psim_value(s, "virial") : 0,
-           p = t->pressure ? pressure(t, &th, w) : NAN;
+           p = t->pressure ? pressure(t, s, &th, w) : NAN;
     if (t->pressure && !isnan(p) && !isfinite(p)) {
         too_large(t, th.step, "pressure", err);
         return -1;
     }
+    /* the temperature: the kinetic energy per disk (2D, unit masses,
+     * k_B = 1: two degrees of freedom of kT / 2 each) */
+    const double time = psim_time_at(s, th.step), temp = th.ke / (double)psim_count(s);
+    const double now = psim_now(), wall = now - t->last_wall;
+    const double sps = first || !(wall > 0) ? NAN : (double)(th.step - t->last_step) / wall;
     if (first)
         header(t);
-    if (t->table)
-        fprintf(t->table, "%10ld %14.8g %14.6g %14.6g", th.step, th.ke, th.px, th.py);
+    if (t->table) {
+        fprintf(t->table, "%10ld", th.step);
+        table_num(t->table, 14, time), table_num(t->table, 14, th.ke);
+        table_num(t->table, 14, temp);
+        fprintf(t->table, " %14.6g %14.6g", th.px, th.py);
+    }
     if (t->csv) {
         fprintf(t->csv, "%ld", th.step);
-        csv_num(t->csv, th.ke), csv_num(t->csv, th.px), csv_num(t->csv, th.py);
+        csv_num(t->csv, time), csv_num(t->csv, th.ke), csv_num(t->csv, temp);
+        csv_num(t->csv, th.px), csv_num(t->csv, th.py);
     }
     for (int k = 0; k < t->ncols; k++) {
         uint64_t c = psim_counter(s, t->col[k]), d = c - t->last[k];
@@ -116,22 +143,29 @@ static int row(cli_thermo *t, const psim_sim *s, int first, psim_error *err)
     }
     if (t->pressure) {
         t->last_virial = w;
-        if (t->table && isnan(p))
-            fprintf(t->table, " %14s", "-");
-        else if (t->table)
-            fprintf(t->table, " %14.8g", p);
-        if (t->csv) {
-            if (isnan(p))
-                fputc(',', t->csv);
-            else
-                csv_num(t->csv, p);
-        }
+        if (t->table)
+            table_num(t->table, 14, p);
+        if (t->csv)
+            csv_num(t->csv, p);
     }
     if (t->table)
-        fprintf(t->table, " %9ld\n", th.overlaps);
+        fprintf(t->table, " %9ld", th.overlaps);
     if (t->csv)
-        fprintf(t->csv, ",%ld\n", th.overlaps);
+        fprintf(t->csv, ",%ld", th.overlaps);
+    if (t->speed && t->table) {
+        if (isnan(sps))
+            fprintf(t->table, " %10s", "-");
+        else
+            fprintf(t->table, " %10.4g", sps);
+    }
+    if (t->speed && t->csv)
+        csv_num(t->csv, sps);
+    if (t->table)
+        fputc('\n', t->table);
+    if (t->csv)
+        fputc('\n', t->csv);
     t->last_step = th.step;
+    t->last_wall = now;
     return 0;
 }
 

@@ -369,6 +369,7 @@ psim_sim *psim_engine_create(psim_scene *sc, const psim_config *cfg,
     e->mstate = e->model->create(e, sc, err);
     if (!e->mstate)
         goto fail;
+    e->step_time = e->model->step_time ? e->model->step_time(e, e->mstate) : 1.0;
     return e;
 fail:
     psim_destroy(e);
@@ -486,6 +487,8 @@ int psim_state_finite(const psim_sim *e, psim_error *err)
 }
 
 long psim_step_index(const psim_sim *e) { return e->step; }
+double psim_step_time(const psim_sim *e) { return e->step_time; }
+double psim_time_at(const psim_sim *e, long step) { return (double)step * e->step_time; }
 long psim_count(const psim_sim *e) { return e->n; }
 const psim_stats *psim_get_stats(const psim_sim *e) { return &e->stats; }
 
@@ -578,7 +581,8 @@ int psim_write_dump(psim_sim *e, FILE *f, long step)
     psim_cols c;
     if (psim_state_cols_take(e, &c))
         return -1;
-    int rc = psim_write_xyz_cols(f, step, e->n, e->L, e->r, &c, e->threads);
+    int rc = psim_write_xyz_cols(f, step, psim_time_at(e, step), e->n, e->L, e->r, &c,
+                                 e->threads);
     psim_state_cols_free(&c);
     return rc;
 }

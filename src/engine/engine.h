@@ -18,6 +18,7 @@ struct psim_sim {
     long n;
     double L, r;
     long step;              /* steps done */
+    double step_time;       /* model time a step advances (model.h) */
     psim_store st;
     int has_grid;           /* the model asked for a grid: sort every step */
     psim_grid grid;

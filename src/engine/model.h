@@ -121,6 +121,10 @@ typedef struct psim_model {
      * (psim_engine_restart_column) */
     psim_restart_col restart_cols[PSIM_RESTART_COLS + 1];
     void (*restart_save)(const struct psim_sim *e, const void *m, int k, double *by_id);
+    /* optional: the model time one step advances (what its velocities are
+     * per: a step's dt), for this run, which the engine asks for once the
+     * model is made; without it a step is one time unit */
+    double (*step_time)(const struct psim_sim *e, const void *m);
     /* optional: its source's own initial state of n particles from seed */
     int (*generate)(psim_scene *sc, long n, uint64_t seed, psim_error *err);
     void (*destroy)(void *m);

@@ -76,9 +76,10 @@ typedef struct psim_cols {
 int psim_write_state_cols(FILE *f, long step, long n, const psim_cols *c, int digits,
                           int threads);
 
-/* One extended XYZ frame of the columns (xyz.c; psim_write_dump). */
-int psim_write_xyz_cols(FILE *f, long step, long n, double L, double r, const psim_cols *c,
-                        int threads);
+/* One extended XYZ frame of the columns after `step` steps, at model time
+ * `time` (xyz.c; psim_write_dump). */
+int psim_write_xyz_cols(FILE *f, long step, double time, long n, double L, double r,
+                        const psim_cols *c, int threads);
 
 /* Progress of long reads and writes (psim_set_io_progress in psim.h). */
 void psim_io_progress(int writing, long long done, long long total);

@@ -33,7 +33,7 @@ static int utf8_len(const unsigned char *s)
 /* s as a JSON string: quotes, backslashes and control characters escaped,
  * and a byte that is not part of well-formed UTF-8 (a file name in another
  * encoding) written as U+FFFD, so the file stays valid JSON. */
-static void json_string(FILE *f, const char *s)
+void psim_write_json_string(FILE *f, const char *s)
 {
     fputc('"', f);
     const unsigned char *p = (const unsigned char *)(s ? s : "");
@@ -58,15 +58,17 @@ int psim_write_stats_json(FILE *f, const psim_sim *e, const char *scene_name,
                           double total_s, const char *extra)
 {
     const psim_stats *s = &e->stats;
-    char L[PSIM_FORMAT_MAX], r[PSIM_FORMAT_MAX];
+    char L[PSIM_FORMAT_MAX], r[PSIM_FORMAT_MAX], dt[PSIM_FORMAT_MAX] = "null";
     psim_format_double(L, e->L, -1);
     psim_format_double(r, e->r, -1);
+    if (isfinite(e->step_time))
+        psim_format_double(dt, e->step_time, -1);
     fprintf(f, "{\n  \"psim_version\": \"%s\",\n  \"model\": \"%s\",\n  \"scene\": ",
             PSIM_VERSION, e->model->name);
-    json_string(f, scene_name ? scene_name : "");
+    psim_write_json_string(f, scene_name ? scene_name : "");
     fprintf(f, ",\n  \"n\": %ld,\n  \"L\": %s,\n  \"r\": %s,\n  \"steps\": %ld,\n"
-               "  \"threads\": %d,\n  \"allocator\": \"%s\",\n",
-            e->n, L, r, s->steps, s->threads, psim_allocator_name());
+               "  \"step_time\": %s,\n  \"threads\": %d,\n  \"allocator\": \"%s\",\n",
+            e->n, L, r, s->steps, dt, s->threads, psim_allocator_name());
     char h[PSIM_FORMAT_MAX] = "null";   /* JSON has no infinity */
     if (isfinite(s->cell_side))
         psim_format_double(h, s->cell_side, -1);

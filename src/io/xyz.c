@@ -1,6 +1,10 @@
-/* --dump: frames in extended XYZ (OVITO, VMD, ASE read it): the count,
- * a comment line of key=value pairs (the box as a lattice, the columns),
- * then a line per disk in id order, z = 0, made by psim_write_lines. */
+/* --dump: frames in extended XYZ (ASE, OVITO, VMD read it): the count, a
+ * comment line of key=value pairs (the box as a lattice, the columns, the
+ * model time and the step), then a line per disk in id order, z = 0, made
+ * by psim_write_lines.  The column names are the readers' own: species
+ * (X, ASE's dummy element, whose mass is 1: psim's masses are unit
+ * masses), id, pos, momenta (ASE's get_momenta and get_velocities read
+ * them: with unit masses they are the velocities) and radius. */
 #include <stdio.h>
 
 #include "fmt.h"
@@ -12,15 +16,17 @@ typedef struct xyz_ctx {
     int rlen;
 } xyz_ctx;
 
-/* "i x y 0 vx vy 0 r": four numbers, an id, the radius. */
-#define XYZ_LINE_MAX (24 + 5 * (PSIM_FMT_MAX + 1) + 8)
+/* "X i x y 0 vx vy 0 r": four numbers, an id, the radius. */
+#define XYZ_LINE_MAX (2 + 24 + 5 * (PSIM_FMT_MAX + 1) + 8)
 
 static size_t xyz_line(char *out, long i, const void *vctx)
 {
     const xyz_ctx *x = vctx;
     const psim_cols *c = x->c;
     long k = c->at ? c->at[i] : i;
-    char *p = psim_fmt_long(out, i);
+    char *p = out;
+    *p++ = 'X', *p++ = ' ';
+    p = psim_fmt_long(p, i);
     *p++ = ' ';
     p += psim_fmt_shortest(p, c->x[k]);
     *p++ = ' ';
@@ -36,18 +42,19 @@ static size_t xyz_line(char *out, long i, const void *vctx)
     return (size_t)(p - out);
 }
 
-int psim_write_xyz_cols(FILE *f, long step, long n, double L, double r, const psim_cols *c,
-                        int threads)
+int psim_write_xyz_cols(FILE *f, long step, double time, long n, double L, double r,
+                        const psim_cols *c, int threads)
 {
-    char l[PSIM_FMT_MAX], d[PSIM_FMT_MAX];
+    char l[PSIM_FMT_MAX], d[PSIM_FMT_MAX], t[PSIM_FMT_MAX];
     xyz_ctx x = {c, {0}, 0};
     psim_fmt_shortest(l, L);
     psim_fmt_shortest(d, 2 * r);
+    psim_fmt_shortest(t, time);
     x.rlen = psim_fmt_shortest(x.r, r);
     if (fprintf(f, "%ld\nLattice=\"%s 0 0 0 %s 0 0 0 %s\" Origin=\"0 0 0\" "
-                   "Properties=id:I:1:pos:R:3:velo:R:3:radius:R:1 Time=%ld step=%ld "
-                   "pbc=\"F F F\"\n",
-                n, l, l, d, step, step) < 0)
+                   "Properties=species:S:1:id:I:1:pos:R:3:momenta:R:3:radius:R:1 Time=%s "
+                   "step=%ld pbc=\"F F F\"\n",
+                n, l, l, d, t, step) < 0)
         return -1;
     return psim_write_lines(f, n, threads, XYZ_LINE_MAX, xyz_line, &x);
 }

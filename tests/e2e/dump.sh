@@ -27,14 +27,14 @@ lines = open(f"{d}/{name}.xyz").read().split("\n")
 p, steps = 0, []
 while p < len(lines) and lines[p]:
     n = int(lines[p]); head = lines[p + 1]
-    assert 'Properties=id:I:1:pos:R:3:velo:R:3:radius:R:1' in head, head
+    assert 'Properties=species:S:1:id:I:1:pos:R:3:momenta:R:3:radius:R:1' in head, head
     assert re.search(r'Lattice="(\S+) 0 0 0 \1 0 0 0 \S+"', head), head
     k = int(re.search(r"step=(\d+)", head).group(1)); steps.append(k)
     for q in range(n):
         f = lines[p + 2 + q].split()
-        i = int(f[0])
-        got = (float(f[1]), float(f[2]), float(f[4]), float(f[5]))
-        assert f[3] == "0" and f[6] == "0", f
+        i = int(f[1])
+        got = (float(f[2]), float(f[3]), float(f[5]), float(f[6]))
+        assert f[0] == "X" and f[4] == "0" and f[7] == "0", f
         w = want[k][i]
         # --digits 17 rounds the trace to 17 decimals: equal to 1e-15 relative
         assert all(abs(a - b) <= 1e-15 * (1 + abs(b)) for a, b in zip(got, w)), (k, i, got, w)

@@ -399,6 +399,14 @@ static void step_summary(FILE *f, const psim_stats *st)
     fputc('\n', f);
 }
 
+/* A step's dt: the law's (its option dt, CS267's 0.0005 for its scenes,
+ * one time unit, a step, for scene files). */
+static double step_time(const psim_sim *e, const void *m)
+{
+    (void)e;
+    return ((const fmodel *)m)->law.dt;
+}
+
 /* CS267's initial state: n particles on a shuffled grid in a box of side
  * sqrt(density n), velocities uniform in [-1, 1] (cs267_random.c). */
 static int generate(psim_scene *sc, long n, uint64_t seed, psim_error *err)
@@ -449,6 +457,7 @@ const psim_model psim_model_force = {
     .write_state = write_state,
     .step_summary = step_summary,
     .source_summary = source_summary,
+    .step_time = step_time,
     .generate = generate,
     .destroy = destroy,
 };
