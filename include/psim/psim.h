@@ -391,8 +391,8 @@ int psim_write_restart(psim_sim *s, FILE *f, long steps);
 
 /* One extended XYZ frame of the current state (--dump), as step: the
  * count, a comment line (the box as Lattice,
- * Properties=species:S:1:id:I:1:pos:R:3:momenta:R:3:radius:R:1, Time, the
- * model time psim_time_at(step), and step), then "X i x y 0 vx vy 0 r" per
+ * Properties=species:S:1:id:I:1:pos:R:3:momenta:R:3:velo:R:3:radius:R:1, Time, the
+ * model time psim_time_at(step), and step), then "X i x y 0 vx vy 0 vx vy 0 r" per
  * disk in id order (shortest round-trip; species X, unit masses: the
  * momenta are the velocities). */
 int psim_write_dump(psim_sim *s, FILE *f, long step);

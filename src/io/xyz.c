@@ -4,7 +4,8 @@
  * by psim_write_lines.  The column names are the readers' own: species
  * (X, ASE's dummy element, whose mass is 1: psim's masses are unit
  * masses), id, pos, momenta (ASE's get_momenta and get_velocities read
- * them: with unit masses they are the velocities) and radius. */
+ * them: with unit masses they are the velocities), velo (the same numbers,
+ * the name OVITO maps to Velocity) and radius. */
 #include <stdio.h>
 
 #include "fmt.h"
@@ -16,8 +17,8 @@ typedef struct xyz_ctx {
     int rlen;
 } xyz_ctx;
 
-/* "X i x y 0 vx vy 0 r": four numbers, an id, the radius. */
-#define XYZ_LINE_MAX (2 + 24 + 5 * (PSIM_FMT_MAX + 1) + 8)
+/* "X i x y 0 vx vy 0 vx vy 0 r": six numbers, an id, the radius. */
+#define XYZ_LINE_MAX (2 + 24 + 7 * (PSIM_FMT_MAX + 1) + 16)
 
 static size_t xyz_line(char *out, long i, const void *vctx)
 {
@@ -32,10 +33,15 @@ static size_t xyz_line(char *out, long i, const void *vctx)
     *p++ = ' ';
     p += psim_fmt_shortest(p, c->y[k]);
     *p++ = ' ', *p++ = '0', *p++ = ' ';
+    char *v = p;   /* momenta, then the same as velo */
     p += psim_fmt_shortest(p, c->vx[k]);
     *p++ = ' ';
     p += psim_fmt_shortest(p, c->vy[k]);
     *p++ = ' ', *p++ = '0', *p++ = ' ';
+    size_t vlen = (size_t)(p - v);
+    for (size_t q = 0; q < vlen; q++)
+        p[q] = v[q];
+    p += vlen;
     for (int q = 0; q < x->rlen; q++)
         *p++ = x->r[q];
     *p++ = '\n';
@@ -52,7 +58,7 @@ int psim_write_xyz_cols(FILE *f, long step, double time, long n, double L, doubl
     psim_fmt_shortest(t, time);
     x.rlen = psim_fmt_shortest(x.r, r);
     if (fprintf(f, "%ld\nLattice=\"%s 0 0 0 %s 0 0 0 %s\" Origin=\"0 0 0\" "
-                   "Properties=species:S:1:id:I:1:pos:R:3:momenta:R:3:radius:R:1 Time=%s "
+                   "Properties=species:S:1:id:I:1:pos:R:3:momenta:R:3:velo:R:3:radius:R:1 Time=%s "
                    "step=%ld pbc=\"F F F\"\n",
                 n, l, l, d, t, step) < 0)
         return -1;

@@ -27,7 +27,7 @@ lines = open(f"{d}/{name}.xyz").read().split("\n")
 p, steps = 0, []
 while p < len(lines) and lines[p]:
     n = int(lines[p]); head = lines[p + 1]
-    assert 'Properties=species:S:1:id:I:1:pos:R:3:momenta:R:3:radius:R:1' in head, head
+    assert 'Properties=species:S:1:id:I:1:pos:R:3:momenta:R:3:velo:R:3:radius:R:1' in head, head
     assert re.search(r'Lattice="(\S+) 0 0 0 \1 0 0 0 \S+"', head), head
     k = int(re.search(r"step=(\d+)", head).group(1)); steps.append(k)
     for q in range(n):

@@ -108,6 +108,8 @@ for name in runs:
         assert (a.arrays["radius"] == r).all(), (name, k)
         pos, vel = a.get_positions(), a.get_velocities()
         assert (pos[:, 2] == 0).all() and (vel[:, 2] == 0).all(), (name, k)
+        # OVITO's Velocity column: the same numbers
+        assert np.array_equal(a.arrays["velo"], vel), (name, k)
         for i in range(n):
             w = want[k][i]
             got = (pos[i, 0], pos[i, 1], vel[i, 0], vel[i, 1])
