@@ -11,9 +11,11 @@
 #                       psim's; a version the package does not satisfy fails
 #   pkgconfig_consumer  the same program built with pkg-config --static psim
 #   man                 share/man/man1/psim.1 names every long option of
-#                       every --help, every subcommand and model; it and the
-#                       completion are what cmake/psim_docs.py makes from the
-#                       installed psim's help, byte for byte
+#                       every --help, every subcommand and model, every
+#                       variable psim reads from the environment, and the
+#                       documents' folder; it and the completion are what
+#                       cmake/psim_docs.py makes from the installed psim's
+#                       help, byte for byte
 #   completion          the bash completion, sourced, offers the subcommands,
 #                       each command's options (exactly its --help's), the
 #                       models, the model options, the values of --pin,
@@ -26,7 +28,7 @@ here=$(cd "$(dirname "$0")" && pwd)
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 
 for v in BUILD SOURCE PREFIX VERSION DESCRIPTION CC CMAKE GENERATOR MAKE PKG_CONFIG PYTHON \
-         ALLOCATOR BINDIR LIBDIR INCLUDEDIR MANDIR DATADIR; do
+         ALLOCATOR BINDIR LIBDIR INCLUDEDIR MANDIR DATADIR DOCDIR; do
     var=PSIM_INSTALL_$v
     [[ -n ${!var:-} ]] || { echo "FAIL: $var is not set (ctest sets it: tests/CMakeLists.txt)" >&2; exit 1; }
 done
@@ -57,6 +59,15 @@ if [[ $what == tree ]]; then
         cmp -s "$h" "$stage/$PSIM_INSTALL_INCLUDEDIR/psim/${h##*/}" ||
             missing+=("$PSIM_INSTALL_INCLUDEDIR/psim/${h##*/} (as include/psim/${h##*/})")
     done
+    # the documents: every page of docs/ and README.md (its links made local)
+    for d in "$PSIM_INSTALL_SOURCE"/docs/*.md; do
+        cmp -s "$d" "$stage/$PSIM_INSTALL_DOCDIR/${d##*/}" ||
+            missing+=("$PSIM_INSTALL_DOCDIR/${d##*/} (as docs/${d##*/})")
+    done
+    [[ -s $stage/$PSIM_INSTALL_DOCDIR/README.md ]] || missing+=("$PSIM_INSTALL_DOCDIR/README.md")
+    if grep -q '](docs/' "$stage/$PSIM_INSTALL_DOCDIR/README.md" 2>/dev/null; then
+        missing+=("$PSIM_INSTALL_DOCDIR/README.md with links to its own folder (it links to docs/)")
+    fi
     if ((${#missing[@]})); then
         echo "FAIL: cmake --install did not install:" >&2
         printf '  %s\n' "${missing[@]}" >&2
@@ -215,12 +226,24 @@ man)
     for m in $(models); do
         grep -qx "$m" "$tmp/man.txt" || missing+=("the model $m")
     done
+    # every variable psim reads from the environment, in ENVIRONMENT; the
+    # installed documents in SEE ALSO
+    sed -n '/^\.SH ENVIRONMENT/,/^\.SH /p' "$tmp/man.txt" >"$tmp/env.txt"
+    for v in $(grep -rhoE 'getenv\("[A-Z_]+"\)' "$PSIM_INSTALL_SOURCE/src" | grep -oE '[A-Z_]{2,}' | sort -u); do
+        grep -qE "^(.*, )?$v(,.*)?$" "$tmp/env.txt" || missing+=("$v in ENVIRONMENT")
+    done
+    for s in "EXIT STATUS" EXAMPLES "SEE ALSO"; do
+        grep -q "^\.SH $s" "$tmp/man.txt" || missing+=("a section $s")
+    done
+    grep -qF "$PSIM_INSTALL_DOCDIR" <(sed -n '/^\.SH SEE ALSO/,$p' "$tmp/man.txt") ||
+        missing+=("$PSIM_INSTALL_DOCDIR in SEE ALSO")
     if ((${#missing[@]})); then
         fail "the man page $man lacks: ${missing[*]}"
     fi
     # the page the installed program's help makes, byte for byte
     run_ok "$PSIM_INSTALL_PYTHON" "$PSIM_INSTALL_SOURCE/cmake/psim_docs.py" --psim "$PSIM" \
         --version "$version" --description "$PSIM_INSTALL_DESCRIPTION" --man "$tmp/psim.1" \
+        --man-template "$PSIM_INSTALL_SOURCE/cmake/psim-man.in" --docdir "$PSIM_INSTALL_DOCDIR" \
         --completion-template "$PSIM_INSTALL_SOURCE/cmake/psim-completion.bash.in" \
         --completion "$tmp/psim.bash"
     same_file "$tmp/psim.1" "$man" "the installed man page and the one the installed psim's help makes"
