@@ -347,10 +347,11 @@ def completion_data(main, subs, models):
     out.append("_psim_commands=%s" % shell_words(list(subs), "subcommands"))
     out.append("_psim_models=%s" % shell_words([m[0] for m in models], "models"))
     keys = []
-    for _, _, opts in models:
-        for key, _, _ in opts:
-            if key + "=" not in keys:
-                keys.append(key + "=")
+    for name, _, opts in models:
+        own = [key + "=" for key, _, _ in opts]
+        out.append("_psim_model_options_%s=%s" % (name.replace("-", "_"),
+                                                   shell_words(own, "model %s's options" % name)))
+        keys += [k for k in own if k not in keys]
     out.append("_psim_model_options=%s" % shell_words(keys, "model options"))
     for name, helptext in [("run", main)] + list(subs.items()):
         opts = helptext.options + helptext.usage_options()

@@ -18,7 +18,8 @@
 #                       help, byte for byte
 #   completion          the bash completion, sourced, offers the subcommands,
 #                       each command's options (exactly its --help's), the
-#                       models, the model options, the values of --pin,
+#                       models, the model options (after --model, exactly
+#                       that model's), the values of --pin,
 #                       --mem and --place, and file names
 # ctest gives the build's settings in PSIM_INSTALL_* (tests/CMakeLists.txt).
 # usage: install.sh WHAT
@@ -263,8 +264,15 @@ completion)
     # last word is the one completed), sorted, one a line
     offers()
     {
+        offers_at $(($# - 1)) "$@"
+    }
+    # offers_at K WORD...: the same, completing the word K (0 is psim)
+    offers_at()
+    {
+        local at=$1
+        shift
         COMP_WORDS=("$@")
-        COMP_CWORD=$(($# - 1))
+        COMP_CWORD=$at
         COMP_LINE="$*"
         COMP_POINT=${#COMP_LINE}
         COMPREPLY=()
@@ -308,6 +316,17 @@ $(diff <(echo "$2") <(echo "$3") | sed -n 's/^[<>]/  &/p')
     same "'psim -m c'" "$(models | grep '^c' | sort -u)" "$(offers psim -m c)"
     same "'psim --option '" "$("$PSIM" models | grep -oE -- '--option [a-z0-9_]+=' | cut -c10- | sort -u)" \
         "$(offers psim --option '')"
+    # --option after a model: that model's options only, wherever --model is
+    for m in $(models); do
+        own=$("$PSIM" models | sed -n "/^$m /,/^[^ ]/p" | grep -oE -- '--option [a-z0-9_]+=' | cut -c10- | sort -u)
+        [[ -n $own ]] || fail "psim models lists no options for $m"
+        same "'psim --model $m -O '" "$own" "$(offers psim --model "$m" -O '')"
+        same "'psim -O  -m $m' (the model after)" "$own" "$(offers_at 2 psim -O '' -m "$m")"
+        same "'psim --model=$m --option='" "$own" "$(offers psim --model = "$m" --option =)"
+        same "'psim -m$m run -O '" "$own" "$(offers psim run "-m$m" -O '')"
+    done
+    [[ -z $(offers psim --model no_such_model -O '') ]] ||
+        fail "completion of 'psim --model no_such_model -O ' offers words"
     has "'psim --out sc'" "$(offers psim --out sc)" scene.in
     has "'psim --final=sc'" "$(offers psim --final = sc)" scene.in
     has "'psim gen -o sc'" "$(offers psim gen -o sc)" scene.in
