@@ -1,6 +1,8 @@
 # What `cmake --install build --prefix X` installs (docs/install.md):
 #
 #   bin/psim                                   the program
+#   bin/psim-plot, bin/psim-animate            charts and animations of runs
+#                                              (scripts/psim-plot, scripts/animate)
 #   lib/libpsim.a, include/psim/*.h            the library and its API
 #   lib/cmake/psim/psim{Config,ConfigVersion,Targets}.cmake
 #                                              find_package(psim), psim::psim
@@ -26,6 +28,10 @@ if(PSIM_SANITIZE)
 endif()
 
 install(TARGETS psim RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT Runtime)
+install(PROGRAMS ${PROJECT_SOURCE_DIR}/scripts/psim-plot
+        DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT Runtime)
+install(PROGRAMS ${PROJECT_SOURCE_DIR}/scripts/animate
+        DESTINATION ${CMAKE_INSTALL_BINDIR} RENAME psim-animate COMPONENT Runtime)
 install(TARGETS psimlib EXPORT psimTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT Development)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/include/psim

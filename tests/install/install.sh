@@ -5,7 +5,8 @@
 #                       staging prefix or the build or source tree; then the
 #                       prefix is moved to PSIM_INSTALL_PREFIX (the fixture of
 #                       the others: the package must work where it was moved)
-#   version             the installed psim runs: --version, gen, a short run
+#   version             the installed psim runs: --version, gen, a short run;
+#                       psim-plot and psim-animate answer under those names
 #   cmake_consumer      tests/install/consumer built with find_package(psim)
 #                       and psim::psim, run: its final state is the installed
 #                       psim's; a version the package does not satisfy fails
@@ -46,7 +47,8 @@ if [[ $what == tree ]]; then
         exit 1
     fi
     missing=()
-    for f in "$PSIM_INSTALL_BINDIR/psim" "$PSIM_INSTALL_LIBDIR/libpsim.a" \
+    for f in "$PSIM_INSTALL_BINDIR/psim" "$PSIM_INSTALL_BINDIR/psim-plot" \
+             "$PSIM_INSTALL_BINDIR/psim-animate" "$PSIM_INSTALL_LIBDIR/libpsim.a" \
              "$PSIM_INSTALL_LIBDIR/cmake/psim/psimConfig.cmake" \
              "$PSIM_INSTALL_LIBDIR/cmake/psim/psimConfigVersion.cmake" \
              "$PSIM_INSTALL_LIBDIR/cmake/psim/psimTargets.cmake" \
@@ -74,7 +76,9 @@ if [[ $what == tree ]]; then
         printf '  %s\n' "${missing[@]}" >&2
         exit 1
     fi
-    [[ -x $stage/$PSIM_INSTALL_BINDIR/psim ]] || { echo "FAIL: the installed psim is not executable" >&2; exit 1; }
+    for b in psim psim-plot psim-animate; do
+        [[ -x $stage/$PSIM_INSTALL_BINDIR/$b ]] || { echo "FAIL: the installed $b is not executable" >&2; exit 1; }
+    done
     extra=$(cd "$stage/$PSIM_INSTALL_INCLUDEDIR" && find . -type f ! -name '*.h' | head -5)
     [[ -z $extra ]] || { echo "FAIL: installed under include/ besides headers: $extra" >&2; exit 1; }
     # The text files hold no absolute path of the build: the package can move.
@@ -152,6 +156,11 @@ version)
     gen "$tmp/s.in" -n 300 --density 0.3 --steps 3
     run_ok "$PSIM" -q --threads 2 --out "$tmp/out.txt" "$tmp/s.in"
     (($(wc -l <"$tmp/out.txt") == 300)) || fail "the installed psim's --out has not 300 lines"
+    # the scripts run where installed, under their installed names
+    for b in psim-plot psim-animate; do
+        run_ok "$prefix/$PSIM_INSTALL_BINDIR/$b" --help
+        expect_fail --rc 2 "$b: " "$prefix/$PSIM_INSTALL_BINDIR/$b" --no-such-option
+    done
     echo "install: $(head -1 <<<"$out") runs"
     ;;
 
