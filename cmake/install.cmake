@@ -28,10 +28,6 @@ if(PSIM_SANITIZE)
 endif()
 
 install(TARGETS psim RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT Runtime)
-install(PROGRAMS ${PROJECT_SOURCE_DIR}/scripts/psim-plot
-        DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT Runtime)
-install(PROGRAMS ${PROJECT_SOURCE_DIR}/scripts/animate
-        DESTINATION ${CMAKE_INSTALL_BINDIR} RENAME psim-animate COMPONENT Runtime)
 install(TARGETS psimlib EXPORT psimTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT Development)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/include/psim
@@ -123,3 +119,9 @@ string(REPLACE "](docs/" "](" psim_readme "${psim_readme}")
 file(WRITE ${PROJECT_BINARY_DIR}/doc/README.md "${psim_readme}")
 install(FILES ${PROJECT_BINARY_DIR}/doc/README.md DESTINATION ${CMAKE_INSTALL_DOCDIR}
         COMPONENT Runtime)
+
+# ---- the scripts: charts (psim-plot) and animations (psim-animate) of runs ---
+install(PROGRAMS ${PROJECT_SOURCE_DIR}/scripts/psim-plot
+        DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT Runtime)
+install(PROGRAMS ${PROJECT_SOURCE_DIR}/scripts/animate
+        DESTINATION ${CMAKE_INSTALL_BINDIR} RENAME psim-animate COMPONENT Runtime)

@@ -47,8 +47,7 @@ if [[ $what == tree ]]; then
         exit 1
     fi
     missing=()
-    for f in "$PSIM_INSTALL_BINDIR/psim" "$PSIM_INSTALL_BINDIR/psim-plot" \
-             "$PSIM_INSTALL_BINDIR/psim-animate" "$PSIM_INSTALL_LIBDIR/libpsim.a" \
+    for f in "$PSIM_INSTALL_BINDIR/psim" "$PSIM_INSTALL_LIBDIR/libpsim.a" \
              "$PSIM_INSTALL_LIBDIR/cmake/psim/psimConfig.cmake" \
              "$PSIM_INSTALL_LIBDIR/cmake/psim/psimConfigVersion.cmake" \
              "$PSIM_INSTALL_LIBDIR/cmake/psim/psimTargets.cmake" \
@@ -62,7 +61,11 @@ if [[ $what == tree ]]; then
         cmp -s "$h" "$stage/$PSIM_INSTALL_INCLUDEDIR/psim/${h##*/}" ||
             missing+=("$PSIM_INSTALL_INCLUDEDIR/psim/${h##*/} (as include/psim/${h##*/})")
     done
-    # the documents: every page of docs/ and README.md (its links made local)
+    # the scripts, and the documents: every page of docs/ and README.md (its
+    # links made local)
+    for b in psim-plot psim-animate; do
+        [[ -x $stage/$PSIM_INSTALL_BINDIR/$b ]] || missing+=("$PSIM_INSTALL_BINDIR/$b (executable)")
+    done
     for d in "$PSIM_INSTALL_SOURCE"/docs/*.md; do
         cmp -s "$d" "$stage/$PSIM_INSTALL_DOCDIR/${d##*/}" ||
             missing+=("$PSIM_INSTALL_DOCDIR/${d##*/} (as docs/${d##*/})")
@@ -76,9 +79,7 @@ if [[ $what == tree ]]; then
         printf '  %s\n' "${missing[@]}" >&2
         exit 1
     fi
-    for b in psim psim-plot psim-animate; do
-        [[ -x $stage/$PSIM_INSTALL_BINDIR/$b ]] || { echo "FAIL: the installed $b is not executable" >&2; exit 1; }
-    done
+    [[ -x $stage/$PSIM_INSTALL_BINDIR/psim ]] || { echo "FAIL: the installed psim is not executable" >&2; exit 1; }
     extra=$(cd "$stage/$PSIM_INSTALL_INCLUDEDIR" && find . -type f ! -name '*.h' | head -5)
     [[ -z $extra ]] || { echo "FAIL: installed under include/ besides headers: $extra" >&2; exit 1; }
     # The text files hold no absolute path of the build: the package can move.
