@@ -1,12 +1,15 @@
 # What `cmake --install build --prefix X` installs (docs/install.md):
 #
 #   bin/psim                                   the program
+#   bin/psim-plot, bin/psim-animate            charts and animations of runs
+#                                              (scripts/psim-plot, scripts/animate)
 #   lib/libpsim.a, include/psim/*.h            the library and its API
 #   lib/cmake/psim/psim{Config,ConfigVersion,Targets}.cmake
 #                                              find_package(psim), psim::psim
 #   lib/pkgconfig/psim.pc                      pkg-config --static psim
 #   share/man/man1/psim.1                      the man page
 #   share/bash-completion/completions/psim     the bash completion
+#   share/doc/psim/*.md, img/, ...             docs/ and README.md
 #
 # (lib, include, share: GNUInstallDirs' CMAKE_INSTALL_LIBDIR and the others.)
 # Nothing installed names the build tree or the prefix: the CMake files
@@ -92,13 +95,33 @@ add_custom_command(
   COMMAND Python3::Interpreter ${PROJECT_SOURCE_DIR}/cmake/psim_docs.py
           --psim $<TARGET_FILE:psim> --version ${PROJECT_VERSION}
           --description "${PROJECT_DESCRIPTION}"
-          --man ${PSIM_MAN}
+          --man ${PSIM_MAN} --man-template ${PROJECT_SOURCE_DIR}/cmake/psim-man.in
+          --docdir ${CMAKE_INSTALL_DOCDIR}
           --completion-template ${PROJECT_SOURCE_DIR}/cmake/psim-completion.bash.in
           --completion ${PSIM_COMPLETION}
   DEPENDS psim ${PROJECT_SOURCE_DIR}/cmake/psim_docs.py
           ${PROJECT_SOURCE_DIR}/cmake/psim-completion.bash.in
+          ${PROJECT_SOURCE_DIR}/cmake/psim-man.in
   COMMENT "psim.1 and the bash completion from psim --help" VERBATIM)
 add_custom_target(psim_docs ALL DEPENDS ${PSIM_MAN} ${PSIM_COMPLETION})
 install(FILES ${PSIM_MAN} DESTINATION ${CMAKE_INSTALL_MANDIR}/man1 COMPONENT Runtime)
 install(FILES ${PSIM_COMPLETION} DESTINATION ${CMAKE_INSTALL_DATADIR}/bash-completion/completions
         RENAME psim COMPONENT Runtime)
+
+# ---- the documents: docs/ as share/doc/psim, README.md beside them ----------
+# README.md's links to docs/NAME.md are made NAME.md, where those lie once
+# installed; docs/ keeps its folders (img/, ...), which its pages link to.
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/docs/ DESTINATION ${CMAKE_INSTALL_DOCDIR}
+        COMPONENT Runtime)
+set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/README.md)
+file(READ ${PROJECT_SOURCE_DIR}/README.md psim_readme)
+string(REPLACE "](docs/" "](" psim_readme "${psim_readme}")
+file(WRITE ${PROJECT_BINARY_DIR}/doc/README.md "${psim_readme}")
+install(FILES ${PROJECT_BINARY_DIR}/doc/README.md DESTINATION ${CMAKE_INSTALL_DOCDIR}
+        COMPONENT Runtime)
+
+# ---- the scripts: charts (psim-plot) and animations (psim-animate) of runs ---
+install(PROGRAMS ${PROJECT_SOURCE_DIR}/scripts/psim-plot
+        DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT Runtime)
+install(PROGRAMS ${PROJECT_SOURCE_DIR}/scripts/animate
+        DESTINATION ${CMAKE_INSTALL_BINDIR} RENAME psim-animate COMPONENT Runtime)

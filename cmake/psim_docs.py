@@ -2,12 +2,17 @@
 """Write psim's man page and bash completion from the built program's help.
 
 usage: psim_docs.py --psim BIN --version V --description TEXT --man OUT.1
+                    --man-template TEMPLATE --docdir DIR
                     --completion-template TEMPLATE --completion OUT
 
-Every word of the page comes from the program: `psim --help`, `psim CMD
---help` for each subcommand the main help's usage lines name, and `psim
-models`; only the layout (and the NAME line, the project's description) is
-this script's.  The completion's lists (subcommands, each command's
+The page's synopsis, description, options, commands and models come from
+the program: `psim --help`, `psim CMD --help` for each subcommand the main
+help's usage lines name, and `psim models`; only the layout (and the NAME
+line, the project's description) is this script's.  The sections no help
+text holds (exit status, environment, examples, see also) come from the
+man template (cmake/psim-man.in), whose example commands and options are
+checked against the help texts: an option the program does not list stops
+the build.  The completion's lists (subcommands, each command's
 options, which of them take a value or a file, the models and their
 options) come from the same texts, so neither can drift from the program.
 The output is deterministic: no date, no path.  Python 3 standard library
@@ -177,7 +182,108 @@ def options(out, opts):
         out.extend(roff(line) for line in opt.text)
 
 
-def man_page(version, description, main, subs, models):
+def template_sections(text, docdir, what):
+    """The man template: [(title, [block, ...])], a block being
+    ("para", lines), ("tag", tag, lines) or ("example", commands)."""
+    sections = []
+    text = text.replace("@DOCDIR@", docdir)
+    if re.search(r"@[A-Z_]+@", text):
+        die("%s: unknown placeholder %s" % (what, re.search(r"@[A-Z_]+@", text).group(0)))
+    lines = [line.rstrip() for line in text.split("\n") if not line.startswith("#")]
+    i = 0
+    while i < len(lines):
+        line = lines[i]
+        if not line.strip():
+            i += 1
+            continue
+        m = re.match(r"^\[([A-Z][A-Z ]*)\]$", line)
+        if m:
+            sections.append((m.group(1), []))
+            i += 1
+            continue
+        if not sections:
+            die("%s: text before the first [SECTION]: '%s'" % (what, line))
+        blocks = sections[-1][1]
+        if line.startswith(" "):
+            die("%s: an indented line without a tag above it: '%s'" % (what, line))
+        if line.startswith("$ "):
+            blocks.append(("example", [line[2:]]))
+            i += 1
+            while i < len(lines) and lines[i].startswith("$ "):
+                blocks[-1][1].append(lines[i][2:])
+                i += 1
+        elif i + 1 < len(lines) and lines[i + 1].startswith("    "):
+            body = []
+            i += 1
+            while i < len(lines) and lines[i].startswith("    "):
+                body.append(lines[i].strip())
+                i += 1
+            blocks.append(("tag", line, body))
+        else:
+            para = []
+            while i < len(lines) and lines[i].strip() and not lines[i].startswith(("$ ", "[")):
+                if lines[i].startswith(" "):
+                    die("%s: an indented line inside a paragraph: '%s'" % (what, lines[i]))
+                para.append(lines[i])
+                i += 1
+            blocks.append(("para", para))
+    if not sections:
+        die("%s: no [SECTION]" % what)
+    return sections
+
+
+def check_template(sections, main, subs, what):
+    """Every option in an example command line is one of its command's;
+    every long option in the text is one of the program's."""
+    known = {"run": main}
+    known.update(subs)
+    names = {name: {n for o in h.options + h.usage_options() for n in o.names()}
+             for name, h in known.items()}
+    every = set().union(*names.values())
+    for title, blocks in sections:
+        for block in blocks:
+            if block[0] == "example":
+                for cmd in block[1]:
+                    words = cmd.split()
+                    if words[0] != "psim":
+                        continue
+                    sub = words[1] if len(words) > 1 and words[1] in subs else "run"
+                    for w in words[1:]:
+                        opt = w.split("=", 1)[0]
+                        if opt.startswith("-") and opt != "-" and opt not in names[sub]:
+                            die("%s: [%s]: '%s' is not an option of psim %s: '%s'"
+                                % (what, title, opt, sub, cmd))
+            else:
+                text = " ".join(block[1] if block[0] == "para" else [block[1]] + block[2])
+                for opt in re.findall(r"(?<![\w-])--[a-z][a-z0-9-]*", text):
+                    if opt not in every:
+                        die("%s: [%s]: '%s' is no option of psim: '%s'"
+                            % (what, title, opt, text[:60]))
+
+
+def template_roff(sections):
+    out = []
+    for title, blocks in sections:
+        out.append(".SH %s" % title)
+        for block in blocks:
+            if block[0] == "para":
+                out.append(".PP")
+                out.extend(roff(line) for line in block[1])
+            elif block[0] == "tag":
+                out.append(".TP")
+                out.append("\\fB%s\\fR" % roff(block[1]))
+                out.extend(roff(line) for line in block[2])
+            else:
+                out.append(".PP")
+                out.append(".RS 4")
+                out.append(".nf")
+                out.extend("$ \\fB%s\\fR" % roff(cmd) for cmd in block[1])
+                out.append(".fi")
+                out.append(".RE")
+    return out
+
+
+def man_page(version, description, main, subs, models, extra):
     out = [
         '.\\" psim(1), generated by cmake/psim_docs.py from the text of psim --help,',
         '.\\" each subcommand\'s --help and psim models: do not edit.',
@@ -223,10 +329,7 @@ def man_page(version, description, main, subs, models):
             out.append("\\fB\\-\\-option\\fR %s=\\fI%s\\fR" % (roff(key), roff(meta)))
             out.append(roff(text))
             out.append(".RE")
-    out.append(".SH SEE ALSO")
-    out.append("README.md and docs/ in psim's sources: docs/formats.md (every file "
-               "format), docs/models.md, docs/experiments.md (pinning, NUMA), "
-               "docs/install.md (this package).")
+    out.extend(template_roff(extra))
     return "\n".join(out) + "\n"
 
 
@@ -244,10 +347,11 @@ def completion_data(main, subs, models):
     out.append("_psim_commands=%s" % shell_words(list(subs), "subcommands"))
     out.append("_psim_models=%s" % shell_words([m[0] for m in models], "models"))
     keys = []
-    for _, _, opts in models:
-        for key, _, _ in opts:
-            if key + "=" not in keys:
-                keys.append(key + "=")
+    for name, _, opts in models:
+        own = [key + "=" for key, _, _ in opts]
+        out.append("_psim_model_options_%s=%s" % (name.replace("-", "_"),
+                                                   shell_words(own, "model %s's options" % name)))
+        keys += [k for k in own if k not in keys]
     out.append("_psim_model_options=%s" % shell_words(keys, "model options"))
     for name, helptext in [("run", main)] + list(subs.items()):
         opts = helptext.options + helptext.usage_options()
@@ -269,6 +373,8 @@ def main():
     ap.add_argument("--version", required=True)
     ap.add_argument("--description", required=True)
     ap.add_argument("--man", required=True)
+    ap.add_argument("--man-template", required=True)
+    ap.add_argument("--docdir", required=True)
     ap.add_argument("--completion-template", required=True)
     ap.add_argument("--completion", required=True)
     a = ap.parse_args()
@@ -285,12 +391,16 @@ def main():
         die("psim --help names no subcommands")
     models = parse_models(run(a.psim, "models"))
 
+    with open(a.man_template) as f:
+        extra = template_sections(f.read(), a.docdir, a.man_template)
+    check_template(extra, main_help, subs, a.man_template)
+
     with open(a.completion_template) as f:
         template = f.read()
     if template.count("@PSIM_COMPLETION_DATA@") != 1:
         die("%s: no @PSIM_COMPLETION_DATA@ line" % a.completion_template)
     outputs = {
-        a.man: man_page(a.version, a.description, main_help, subs, models),
+        a.man: man_page(a.version, a.description, main_help, subs, models, extra),
         a.completion: template.replace("@PSIM_COMPLETION_DATA@",
                                        completion_data(main_help, subs, models)),
     }

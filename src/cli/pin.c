@@ -172,12 +172,23 @@ static void plan_usage(FILE *f, const char *cmd)
     if (strcmp(cmd, "topo") == 0)
         fprintf(f, "usage: psim topo [--topology FILE.xml]\n\n"
                    "Summarise the machine (or an hwloc XML topology): CPU kinds and their\n"
-                   "infos, cores, hardware threads, caches, NUMA nodes.\n");
+                   "infos, cores, hardware threads, caches, NUMA nodes.\n\n"
+                   "options:\n"
+                   "      --topology FILE.xml  the hwloc XML topology of another machine\n"
+                   "                    to summarise instead of this one\n");
     else
         fprintf(f, "usage: psim plan [--pin POLICY] [--threads N] [--topology FILE.xml]\n\n"
-                   "Print where each thread would run: thread, PU, core, CPU kind, NUMA node.\n"
-                   "POLICY: pcores, ecores, cores, all, numa:K, none (default: cores).\n");
-    fprintf(f, "\n  -h, --help     show this help\n  -V, --version  show the version\n");
+                   "Print where each thread would run: thread, PU, core, CPU kind, NUMA node.\n\n"
+                   "options:\n"
+                   "      --pin POLICY  pcores, ecores, cores, all, numa:K or none (default:\n"
+                   "                    cores), as psim --pin takes them\n"
+                   "  -t, --threads N   threads to place (default: one per core of the\n"
+                   "                    policy, one per hardware thread with all; with none,\n"
+                   "                    OMP_NUM_THREADS, else all cores)\n"
+                   "      --topology FILE.xml  the hwloc XML topology of another machine\n"
+                   "                    to plan on instead of this one\n");
+    fprintf(f, "  -h, --help        show this help\n"
+               "  -V, --version     show the version\n");
 }
 
 /* psim plan / psim topo */

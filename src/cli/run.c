@@ -103,7 +103,7 @@ static void run_usage(FILE *f)
 "                    last, with the steps left to run: 'psim FILE' after a\n"
 "                    killed run ends where the whole run would have\n"
 "      --dump FILE   write frames in extended XYZ (OVITO, VMD, ASE;\n"
-"                    scripts/animate): steps 0, N, 2N, ... and the last\n"
+"                    psim-animate): steps 0, N, 2N, ... and the last\n"
 "      --dump-every N  the frame interval of --dump (default 1)\n"
 "      --thermo N    every N steps (and at the start and end) print the\n"
 "                    model time, the state's kinetic energy, temperature\n"

@@ -5,18 +5,22 @@
 #                       staging prefix or the build or source tree; then the
 #                       prefix is moved to PSIM_INSTALL_PREFIX (the fixture of
 #                       the others: the package must work where it was moved)
-#   version             the installed psim runs: --version, gen, a short run
+#   version             the installed psim runs: --version, gen, a short run;
+#                       psim-plot and psim-animate answer under those names
 #   cmake_consumer      tests/install/consumer built with find_package(psim)
 #                       and psim::psim, run: its final state is the installed
 #                       psim's; a version the package does not satisfy fails
 #   pkgconfig_consumer  the same program built with pkg-config --static psim
 #   man                 share/man/man1/psim.1 names every long option of
-#                       every --help, every subcommand and model; it and the
-#                       completion are what cmake/psim_docs.py makes from the
-#                       installed psim's help, byte for byte
+#                       every --help, every subcommand and model, every
+#                       variable psim reads from the environment, and the
+#                       documents' folder; it and the completion are what
+#                       cmake/psim_docs.py makes from the installed psim's
+#                       help, byte for byte
 #   completion          the bash completion, sourced, offers the subcommands,
 #                       each command's options (exactly its --help's), the
-#                       models, the model options, the values of --pin,
+#                       models, the model options (after --model, exactly
+#                       that model's), the values of --pin,
 #                       --mem and --place, and file names
 # ctest gives the build's settings in PSIM_INSTALL_* (tests/CMakeLists.txt).
 # usage: install.sh WHAT
@@ -26,7 +30,7 @@ here=$(cd "$(dirname "$0")" && pwd)
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 
 for v in BUILD SOURCE PREFIX VERSION DESCRIPTION CC CMAKE GENERATOR MAKE PKG_CONFIG PYTHON \
-         ALLOCATOR BINDIR LIBDIR INCLUDEDIR MANDIR DATADIR; do
+         ALLOCATOR BINDIR LIBDIR INCLUDEDIR MANDIR DATADIR DOCDIR; do
     var=PSIM_INSTALL_$v
     [[ -n ${!var:-} ]] || { echo "FAIL: $var is not set (ctest sets it: tests/CMakeLists.txt)" >&2; exit 1; }
 done
@@ -57,6 +61,19 @@ if [[ $what == tree ]]; then
         cmp -s "$h" "$stage/$PSIM_INSTALL_INCLUDEDIR/psim/${h##*/}" ||
             missing+=("$PSIM_INSTALL_INCLUDEDIR/psim/${h##*/} (as include/psim/${h##*/})")
     done
+    # the scripts, and the documents: every page of docs/ and README.md (its
+    # links made local)
+    for b in psim-plot psim-animate; do
+        [[ -x $stage/$PSIM_INSTALL_BINDIR/$b ]] || missing+=("$PSIM_INSTALL_BINDIR/$b (executable)")
+    done
+    for d in "$PSIM_INSTALL_SOURCE"/docs/*.md; do
+        cmp -s "$d" "$stage/$PSIM_INSTALL_DOCDIR/${d##*/}" ||
+            missing+=("$PSIM_INSTALL_DOCDIR/${d##*/} (as docs/${d##*/})")
+    done
+    [[ -s $stage/$PSIM_INSTALL_DOCDIR/README.md ]] || missing+=("$PSIM_INSTALL_DOCDIR/README.md")
+    if grep -q '](docs/' "$stage/$PSIM_INSTALL_DOCDIR/README.md" 2>/dev/null; then
+        missing+=("$PSIM_INSTALL_DOCDIR/README.md with links to its own folder (it links to docs/)")
+    fi
     if ((${#missing[@]})); then
         echo "FAIL: cmake --install did not install:" >&2
         printf '  %s\n' "${missing[@]}" >&2
@@ -140,6 +157,11 @@ version)
     gen "$tmp/s.in" -n 300 --density 0.3 --steps 3
     run_ok "$PSIM" -q --threads 2 --out "$tmp/out.txt" "$tmp/s.in"
     (($(wc -l <"$tmp/out.txt") == 300)) || fail "the installed psim's --out has not 300 lines"
+    # the scripts run where installed, under their installed names
+    for b in psim-plot psim-animate; do
+        run_ok "$prefix/$PSIM_INSTALL_BINDIR/$b" --help
+        expect_fail --rc 2 "$b: " "$prefix/$PSIM_INSTALL_BINDIR/$b" --no-such-option
+    done
     echo "install: $(head -1 <<<"$out") runs"
     ;;
 
@@ -215,12 +237,24 @@ man)
     for m in $(models); do
         grep -qx "$m" "$tmp/man.txt" || missing+=("the model $m")
     done
+    # every variable psim reads from the environment, in ENVIRONMENT; the
+    # installed documents in SEE ALSO
+    sed -n '/^\.SH ENVIRONMENT/,/^\.SH /p' "$tmp/man.txt" >"$tmp/env.txt"
+    for v in $(grep -rhoE '(getenv\(|env_value\([a-z]+, )"[A-Z_]+"' "$PSIM_INSTALL_SOURCE/src" | grep -oE '"[A-Z_]{2,}"' | tr -d '"' | sort -u); do
+        grep -qE "^(.*, )?$v(,.*)?$" "$tmp/env.txt" || missing+=("$v in ENVIRONMENT")
+    done
+    for s in "EXIT STATUS" EXAMPLES "SEE ALSO"; do
+        grep -q "^\.SH $s" "$tmp/man.txt" || missing+=("a section $s")
+    done
+    grep -qF "$PSIM_INSTALL_DOCDIR" <(sed -n '/^\.SH SEE ALSO/,$p' "$tmp/man.txt") ||
+        missing+=("$PSIM_INSTALL_DOCDIR in SEE ALSO")
     if ((${#missing[@]})); then
         fail "the man page $man lacks: ${missing[*]}"
     fi
     # the page the installed program's help makes, byte for byte
     run_ok "$PSIM_INSTALL_PYTHON" "$PSIM_INSTALL_SOURCE/cmake/psim_docs.py" --psim "$PSIM" \
         --version "$version" --description "$PSIM_INSTALL_DESCRIPTION" --man "$tmp/psim.1" \
+        --man-template "$PSIM_INSTALL_SOURCE/cmake/psim-man.in" --docdir "$PSIM_INSTALL_DOCDIR" \
         --completion-template "$PSIM_INSTALL_SOURCE/cmake/psim-completion.bash.in" \
         --completion "$tmp/psim.bash"
     same_file "$tmp/psim.1" "$man" "the installed man page and the one the installed psim's help makes"
@@ -240,8 +274,15 @@ completion)
     # last word is the one completed), sorted, one a line
     offers()
     {
+        offers_at $(($# - 1)) "$@"
+    }
+    # offers_at K WORD...: the same, completing the word K (0 is psim)
+    offers_at()
+    {
+        local at=$1
+        shift
         COMP_WORDS=("$@")
-        COMP_CWORD=$(($# - 1))
+        COMP_CWORD=$at
         COMP_LINE="$*"
         COMP_POINT=${#COMP_LINE}
         COMPREPLY=()
@@ -285,6 +326,17 @@ $(diff <(echo "$2") <(echo "$3") | sed -n 's/^[<>]/  &/p')
     same "'psim -m c'" "$(models | grep '^c' | sort -u)" "$(offers psim -m c)"
     same "'psim --option '" "$("$PSIM" models | grep -oE -- '--option [a-z0-9_]+=' | cut -c10- | sort -u)" \
         "$(offers psim --option '')"
+    # --option after a model: that model's options only, wherever --model is
+    for m in $(models); do
+        own=$("$PSIM" models | sed -n "/^$m /,/^[^ ]/p" | grep -oE -- '--option [a-z0-9_]+=' | cut -c10- | sort -u)
+        [[ -n $own ]] || fail "psim models lists no options for $m"
+        same "'psim --model $m -O '" "$own" "$(offers psim --model "$m" -O '')"
+        same "'psim -O  -m $m' (the model after)" "$own" "$(offers_at 2 psim -O '' -m "$m")"
+        same "'psim --model=$m --option='" "$own" "$(offers psim --model = "$m" --option =)"
+        same "'psim -m$m run -O '" "$own" "$(offers psim run "-m$m" -O '')"
+    done
+    [[ -z $(offers psim --model no_such_model -O '') ]] ||
+        fail "completion of 'psim --model no_such_model -O ' offers words"
     has "'psim --out sc'" "$(offers psim --out sc)" scene.in
     has "'psim --final=sc'" "$(offers psim --final = sc)" scene.in
     has "'psim gen -o sc'" "$(offers psim gen -o sc)" scene.in
