@@ -359,7 +359,9 @@ void cli_version(FILE *f)
 #ifdef PSIM_BUILD_OPTIONS
     fprintf(f, "built: %s\n", PSIM_BUILD_OPTIONS);
 #endif
+#ifdef PSIM_BUILD_FEATURES
+    fprintf(f, "features: %s\n", PSIM_BUILD_FEATURES);
+#endif
     unsigned h = hwloc_get_api_version();
-    fprintf(f, "with: OpenMP %d, allocator %s, hwloc API %u.%u\n", _OPENMP, psim_allocator(),
-            h >> 16, (h >> 8) & 0xff);
+    fprintf(f, "with: OpenMP %d, hwloc API %u.%u\n", _OPENMP, h >> 16, (h >> 8) & 0xff);
 }
