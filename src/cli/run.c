@@ -423,32 +423,32 @@ static void output_files(run_state *rs, outfile **l)
 
 static int write_out(const run_opts *o, psim_sim *s, const outfile *of, long step, int final)
 {
-    double t0 = psim_now();
+    double t0 = cli_output_begin(s);
     cli_io_begin("writing", of->name, o->quiet);
     int rc = psim_write_output(s, of->f, step, final, (int)o->digits);
     cli_io_end();
-    psim_add_output_time(s, psim_now() - t0);
+    cli_output_end(s, t0);
     return rc;
 }
 
 /* The state as a restart file (--restart) whose step count is steps. */
 static int write_restart(const run_opts *o, psim_sim *s, const outfile *of, long steps)
 {
-    double t0 = psim_now();
+    double t0 = cli_output_begin(s);
     cli_io_begin("writing", of->name, o->quiet);
     int rc = psim_write_restart(s, of->f, steps);
     cli_io_end();
-    psim_add_output_time(s, psim_now() - t0);
+    cli_output_end(s, t0);
     return rc;
 }
 
 static int write_trace(const run_opts *o, psim_sim *s, const outfile *of, long step)
 {
-    double t0 = psim_now();
+    double t0 = cli_output_begin(s);
     cli_io_begin("writing", of->name, o->quiet);
     int rc = psim_write_trace(s, of->f, step, (int)o->digits);
     cli_io_end();
-    psim_add_output_time(s, psim_now() - t0);
+    cli_output_end(s, t0);
     return rc;
 }
 
@@ -536,9 +536,9 @@ static void set_write_failed(psim_error *err, const char *name)
 /* An extended XYZ frame of the state after step k (--dump). */
 static int write_dump(psim_sim *s, run_state *rs, long k)
 {
-    double t0 = psim_now();
+    double t0 = cli_output_begin(s);
     int rc = psim_write_dump(s, rs->dump.f, k);
-    psim_add_output_time(s, psim_now() - t0);
+    cli_output_end(s, t0);
     return rc;
 }
 
@@ -825,6 +825,9 @@ int cli_run(int argc, char **argv)
         rc = opened;
         goto done;
     }
+    /* LIKWID's regions (a -DPSIM_LIKWID=ON build under likwid-perfctr -m):
+     * from the first state written to the last, closed at done */
+    psim_markers_init(psim_get_stats(s)->threads);
     double t0 = psim_now();
     int ran = simulate(&o, s, &sc, &cfg, steps, &rs, &err);
     if (ran == -2)   /* and psim ends by the signal (main) */
@@ -884,6 +887,7 @@ int cli_run(int argc, char **argv)
         cli_report(info, s, &o.pin);
     rc = 0;   /* main reports a standard output that could not be written */
 done:
+    psim_markers_close();
     abort_outputs(&rs);
     cli_pin_free(&o.pin);
     free(o.options);

@@ -349,6 +349,19 @@ long long cli_peak_rss(void)
     return kb * 1024;
 }
 
+double cli_output_begin(const psim_sim *s)
+{
+    (void)s;   /* in a build without LIKWID markers */
+    psim_region_begin(psim_get_stats(s)->threads, psim_phase_name(s, PSIM_PHASE_OUTPUT));
+    return psim_now();
+}
+
+void cli_output_end(psim_sim *s, double t0)
+{
+    psim_add_output_time(s, psim_now() - t0);
+    psim_region_end(psim_get_stats(s)->threads, psim_phase_name(s, PSIM_PHASE_OUTPUT));
+}
+
 /* psim --version (and every subcommand's): the release, the git commit
  * psim was built from, the build's options and what it runs with. */
 extern const char psim_git_commit[];
