@@ -793,6 +793,9 @@ int cli_run(int argc, char **argv)
      * planned cores */
     if (cli_pin_setup(&o.pin, (int)o.threads, o.quiet))
         goto done;
+    /* LIKWID's regions (a -DPSIM_LIKWID=ON build under likwid-perfctr -m),
+     * closed at done: started here, as its threads are pinned by it too */
+    psim_markers_init(o.pin.plan.threads);
     psim_config cfg;
     psim_config_default(&cfg);
     cfg.model = o.model;
@@ -825,9 +828,6 @@ int cli_run(int argc, char **argv)
         rc = opened;
         goto done;
     }
-    /* LIKWID's regions (a -DPSIM_LIKWID=ON build under likwid-perfctr -m):
-     * from the first state written to the last, closed at done */
-    psim_markers_init(psim_get_stats(s)->threads);
     double t0 = psim_now();
     int ran = simulate(&o, s, &sc, &cfg, steps, &rs, &err);
     if (ran == -2)   /* and psim ends by the signal (main) */
