@@ -28,9 +28,11 @@ for sub in "" gen plan topo models; do
 done
 # the flags that change the numbers or the speed, and the optional features
 flags=$(sed -n "s/^built: .*, flags '\([^']*\)'.*/\1/p" <<<"$version")
-for f in -ffp-contract=off -fno-omit-frame-pointer -fno-math-errno -fopenmp; do
+for f in -ffp-contract=off -fno-omit-frame-pointer -fno-math-errno; do
     [[ " $flags " == *" $f "* ]] || fail "--version's flags lack $f: $version"
 done
+# (GCC's -fopenmp, clang's -fopenmp=libomp)
+[[ " $flags" == *" -fopenmp"* ]] || fail "--version's flags lack OpenMP's: $version"
 features=$(sed -n 's/^features: //p' <<<"$version")
 for f in "allocator \(jemalloc\|libc\)" "LIKWID markers \(on\|off\)" "-march=native \(on\|off\)" \
          "sanitizers [a-z,]*"; do
