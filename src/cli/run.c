@@ -760,6 +760,11 @@ int cli_run(int argc, char **argv)
     run_state rs = {0};
     psim_sim *s = NULL;
     rc = 1;
+    /* LIKWID's marker API (a -DPSIM_LIKWID=ON build under likwid-perfctr
+     * -m), closed at done: started before the OpenMP runtime has threads,
+     * as its start forks children whose exit would wait on LLVM's libomp's
+     * threads, which a child has not */
+    psim_markers_init();
     omp_set_dynamic(0);
     const int asked = o.threads ? (int)o.threads : omp_get_max_threads(),
               threads = cli_threads_cap(asked);
@@ -793,9 +798,9 @@ int cli_run(int argc, char **argv)
      * planned cores */
     if (cli_pin_setup(&o.pin, (int)o.threads, o.quiet))
         goto done;
-    /* LIKWID's regions (a -DPSIM_LIKWID=ON build under likwid-perfctr -m),
-     * closed at done: started here, as its threads are pinned by it too */
-    psim_markers_init(o.pin.plan.threads);
+    /* the team's threads register with LIKWID, which pins them, before
+     * the engine's first touch of its memory */
+    psim_markers_threads(o.pin.plan.threads);
     psim_config cfg;
     psim_config_default(&cfg);
     cfg.model = o.model;

@@ -20,7 +20,7 @@ double psim_now(void)
  * returns at once, without forking the team). */
 static int markers_on;
 
-void psim_markers_init(int threads)
+void psim_markers_init(void)
 {
     /* likwid-perfctr -m says what to measure in these; without them
      * LIKWID's own init would only print that it runs without markers */
@@ -28,11 +28,17 @@ void psim_markers_init(int threads)
         !getenv("LIKWID_THREADS"))
         return;
     LIKWID_MARKER_INIT;
+    markers_on = 1;
+}
+
+void psim_markers_threads(int threads)
+{
+    if (!markers_on)
+        return;
     /* each thread of the team registers, and is pinned to a CPU of
      * likwid-perfctr -C's list of its own */
 #pragma omp parallel num_threads(threads)
     LIKWID_MARKER_THREADINIT;
-    markers_on = 1;
 }
 
 void psim_markers_close(void)

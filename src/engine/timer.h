@@ -15,9 +15,12 @@ double psim_now(void); /* seconds, monotonic */
  * Outside likwid-perfctr -m the calls return at once; in other builds they
  * are empty and cost nothing. */
 #ifdef PSIM_LIKWID
-/* Once, before the first region, with the team's thread count: starts
- * LIKWID's marker API when psim runs under likwid-perfctr -m. */
-void psim_markers_init(int threads);
+/* Once, before OpenMP starts its threads: starts LIKWID's marker API when
+ * psim runs under likwid-perfctr -m. */
+void psim_markers_init(void);
+/* Once, before the first region: every thread of the team registers with
+ * LIKWID (which, under likwid-perfctr -C, pins each to a CPU of its own). */
+void psim_markers_threads(int threads);
 /* Once, after the last region: LIKWID writes the regions' counts for
  * likwid-perfctr to report. */
 void psim_markers_close(void);
@@ -26,7 +29,8 @@ void psim_region_end(int threads, const char *name);
 void psim_region_thread_begin(const char *name);
 void psim_region_thread_end(const char *name);
 #else
-#define psim_markers_init(threads) ((void)0)
+#define psim_markers_init() ((void)0)
+#define psim_markers_threads(threads) ((void)0)
 #define psim_markers_close() ((void)0)
 #define psim_region_begin(threads, name) ((void)0)
 #define psim_region_end(threads, name) ((void)0)
