@@ -50,8 +50,8 @@ void psim_markers_close(void)
 
 /* LIKWID counts per CPU: a region is started and stopped by the thread on
  * each CPU of the team.  The team's threads are those of the parallel
- * regions of the phase (libgomp keeps a team's threads), each pinned to its
- * CPU by psim_markers_init. */
+ * regions of the phase (the OpenMP runtime keeps a team's threads), each
+ * pinned to its CPU by psim_markers_threads. */
 void psim_region_begin(int threads, const char *name)
 {
     if (!markers_on)
