@@ -440,32 +440,32 @@ static void output_files(run_state *rs, outfile **l)
 
 static int write_out(const run_opts *o, psim_sim *s, const outfile *of, long step, int final)
 {
-    double t0 = psim_now();
+    double t0 = cli_output_begin(s);
     cli_io_begin("writing", of->name, o->quiet);
     int rc = psim_write_output(s, of->f, step, final, (int)o->digits);
     cli_io_end();
-    psim_add_output_time(s, psim_now() - t0);
+    cli_output_end(s, t0);
     return rc;
 }
 
 /* The state as a restart file (--restart) whose step count is steps. */
 static int write_restart(const run_opts *o, psim_sim *s, const outfile *of, long steps)
 {
-    double t0 = psim_now();
+    double t0 = cli_output_begin(s);
     cli_io_begin("writing", of->name, o->quiet);
     int rc = psim_write_restart(s, of->f, steps);
     cli_io_end();
-    psim_add_output_time(s, psim_now() - t0);
+    cli_output_end(s, t0);
     return rc;
 }
 
 static int write_trace(const run_opts *o, psim_sim *s, const outfile *of, long step)
 {
-    double t0 = psim_now();
+    double t0 = cli_output_begin(s);
     cli_io_begin("writing", of->name, o->quiet);
     int rc = psim_write_trace(s, of->f, step, (int)o->digits);
     cli_io_end();
-    psim_add_output_time(s, psim_now() - t0);
+    cli_output_end(s, t0);
     return rc;
 }
 
@@ -553,9 +553,9 @@ static void set_write_failed(psim_error *err, const char *name)
 /* An extended XYZ frame of the state after step k (--dump). */
 static int write_dump(psim_sim *s, run_state *rs, long k)
 {
-    double t0 = psim_now();
+    double t0 = cli_output_begin(s);
     int rc = psim_write_dump(s, rs->dump.f, k);
-    psim_add_output_time(s, psim_now() - t0);
+    cli_output_end(s, t0);
     return rc;
 }
 
@@ -790,6 +790,11 @@ int cli_run(int argc, char **argv)
     run_state rs = {0};
     psim_sim *s = NULL;
     rc = 1;
+    /* LIKWID's marker API (a -DPSIM_LIKWID=ON build under likwid-perfctr
+     * -m), closed at done: started before the OpenMP runtime has threads,
+     * as its start forks children whose exit would wait on LLVM's libomp's
+     * threads, which a child has not */
+    psim_markers_init();
     omp_set_dynamic(0);
     const int asked = o.threads ? (int)o.threads : omp_get_max_threads(),
               threads = cli_threads_cap(asked);
@@ -821,6 +826,9 @@ int cli_run(int argc, char **argv)
      * planned cores */
     if (cli_pin_setup(&o.pin, (int)o.threads, o.quiet))
         goto done;
+    /* the team's threads register with LIKWID, which pins them, before
+     * the engine's first touch of its memory */
+    psim_markers_threads(o.pin.plan.threads);
     psim_config cfg;
     psim_config_default(&cfg);
     cfg.model = o.model;
@@ -913,6 +921,7 @@ int cli_run(int argc, char **argv)
         cli_report(info, s, &o.pin);
     rc = 0;   /* main reports a standard output that could not be written */
 done:
+    psim_markers_close();
     abort_outputs(&rs);
     cli_pin_free(&o.pin);
     free(o.options);

@@ -173,7 +173,7 @@ int thermo_start(cli_thermo *t, psim_sim *s, FILE *table, FILE *csv, psim_error 
 {
     if (t->every <= 0)
         return 0;
-    double t0 = psim_now();
+    double t0 = cli_output_begin(s);
     t->table = table, t->csv = csv;
     t->last_step = psim_step_index(s);
     t->last_virial = psim_value(s, "virial");
@@ -181,7 +181,7 @@ int thermo_start(cli_thermo *t, psim_sim *s, FILE *table, FILE *csv, psim_error 
     for (int k = 0; k < t->ncols; k++)
         t->last[k] = psim_counter(s, t->col[k]);
     int rc = row(t, s, 1, err);
-    psim_add_output_time(s, psim_now() - t0);
+    cli_output_end(s, t0);
     return rc;
 }
 
@@ -194,10 +194,10 @@ int thermo_step(cli_thermo *t, psim_sim *s, long k, long steps, psim_error *err)
 {
     if (!thermo_due(t, k, steps))
         return 0;
-    double t0 = psim_now();
+    double t0 = cli_output_begin(s);
     int rc = row(t, s, 0, err);
     if (t->table)
         fflush(t->table);
-    psim_add_output_time(s, psim_now() - t0);
+    cli_output_end(s, t0);
     return rc;
 }

@@ -453,16 +453,18 @@ int psim_step(psim_sim *e, psim_error *err)
     e->step++;
     e->stats.steps = e->step - e->step0;
     if (e->cfg.check && e->model->check) {
-        int rc;
+        PSIM_REGION_BEGIN(e, PSIM_PHASE_CHECK);
         double t0 = psim_now();
         /* an overflowed state is named as such, not as a broken rule */
-        if (psim_state_finite(e, err))
-            return -1;
-        take_snapshot(e, &e->after);
-        rc = e->model->check(e, e->mstate, &e->before, &e->after, err);
-        double dt = psim_now() - t0;
-        e->stats.phase_s[PSIM_PHASE_CHECK] += dt;
-        psim_tstat_add(e->tstats, PSIM_PHASE_CHECK, dt, 1, (uint64_t)e->n); /* thread 0 */
+        int rc = psim_state_finite(e, err);
+        if (rc == 0) {
+            take_snapshot(e, &e->after);
+            rc = e->model->check(e, e->mstate, &e->before, &e->after, err);
+            double dt = psim_now() - t0;
+            e->stats.phase_s[PSIM_PHASE_CHECK] += dt;
+            psim_tstat_add(e->tstats, PSIM_PHASE_CHECK, dt, 1, (uint64_t)e->n); /* thread 0 */
+        }
+        PSIM_REGION_END(e, PSIM_PHASE_CHECK);
         if (rc)
             return -1;
     }

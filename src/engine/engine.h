@@ -59,12 +59,22 @@ void psim_engine_restart_order(struct psim_sim *e);
  * with err naming the line of L, r or the disk and what is too large. */
 int psim_engine_limits(const struct psim_sim *e, const psim_scene *sc, psim_error *err);
 
-/* Time fn(e, m) into phase p. */
+/* Phase p as a LIKWID marker region (timer.h) named as the model named the
+ * phase: in every thread of the team, or in the calling thread only. */
+#define PSIM_REGION_BEGIN(e, p) psim_region_begin((e)->threads, (e)->stats.phase_name[(p)])
+#define PSIM_REGION_END(e, p) psim_region_end((e)->threads, (e)->stats.phase_name[(p)])
+#define PSIM_REGION_THREAD_BEGIN(e, p) psim_region_thread_begin((e)->stats.phase_name[(p)])
+#define PSIM_REGION_THREAD_END(e, p) psim_region_thread_end((e)->stats.phase_name[(p)])
+
+/* Time fn(e, m) into phase p, inside its region (the region's own cost
+ * outside the time). */
 #define PSIM_TIMED(e, p, call)                                            \
     do {                                                                  \
+        PSIM_REGION_BEGIN(e, p);                                          \
         double t0_ = psim_now();                                          \
         call;                                                             \
         (e)->stats.phase_s[(p)] += psim_now() - t0_;                      \
+        PSIM_REGION_END(e, p);                                            \
     } while (0)
 
 #endif

@@ -26,6 +26,30 @@ for sub in "" gen plan topo models; do
     # shellcheck disable=SC2086
     "$PSIM" $sub --help | grep -q -- "--version" || fail "psim $sub --help does not list --version"
 done
+# the flags that change the numbers or the speed, and the optional features
+flags=$(sed -n "s/^built: .*, flags '\([^']*\)'.*/\1/p" <<<"$version")
+for f in -ffp-contract=off -fno-omit-frame-pointer -fno-math-errno; do
+    [[ " $flags " == *" $f "* ]] || fail "--version's flags lack $f: $version"
+done
+# (GCC's -fopenmp, clang's -fopenmp=libomp)
+[[ " $flags" == *" -fopenmp"* ]] || fail "--version's flags lack OpenMP's: $version"
+features=$(sed -n 's/^features: //p' <<<"$version")
+for f in "allocator \(jemalloc\|libc\)" "LIKWID markers \(on\|off\)" "-march=native \(on\|off\)" \
+         "sanitizers [a-z,]*"; do
+    grep -q -- "$f" <<<"$features" || fail "--version's features do not say '$f': $version"
+done
+# a GCC build records its flags in the debug info: each flag --version
+# prints (but the definitions, and -march=native, which GCC records as the
+# CPU it stands for) is one main.c was compiled with
+producer=$(readelf --debug-dump=info --dwarf-depth=1 "$PSIM" 2>/dev/null |
+           awk '/DW_AT_producer/ { p = $0 } /DW_AT_name/ && /src\/cli\/main\.c/ && !done { print p; done = 1 }')
+if [[ $producer == *": GNU C"* ]]; then
+    for f in $flags; do
+        [[ $f == -D* || $f == -march=native ]] && continue
+        [[ "$producer " == *" $f "* ]] ||
+            fail "--version prints $f, but main.c was compiled without it: $producer"
+    done
+fi
 src=$(cd "$(dirname "$0")/../.." && pwd)
 if head=$(git -C "$src" rev-parse --short=12 HEAD 2>/dev/null); then
     [[ $version == *"(git $head"* ]] || fail "--version names another commit than HEAD ($head): $version"

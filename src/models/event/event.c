@@ -370,18 +370,16 @@ static void sync_store(psim_sim *e, const emodel *m, double T)
 static int interact(psim_sim *e, void *p, psim_error *err)
 {
     emodel *m = p;
-    double T = (double)(e->step + 1), t0 = psim_now();
-    int rc = event_run_until(e, m, T);
-    double t1 = psim_now();
-    e->stats.phase_s[EPHASE_EVENTS] += t1 - t0;
+    double T = (double)(e->step + 1);
+    int rc;
+    PSIM_TIMED(e, EPHASE_EVENTS, rc = event_run_until(e, m, T));
     if (rc > 0)
         return psim_engine_stopped(e, err);
     if (rc) {
         psim_error_set(err, "out of memory for the event calendar at step %ld", e->step + 1);
         return -1;
     }
-    sync_store(e, m, T);
-    e->stats.phase_s[EPHASE_SYNC] += psim_now() - t1;
+    PSIM_TIMED(e, EPHASE_SYNC, sync_store(e, m, T));
     return 0;
 }
 

@@ -662,9 +662,12 @@ static int restart_fast(const psim_sim *e, fmodel *m)
 int force_build_lists(psim_sim *e, fmodel *m)
 {
     psim_engine_sort(e);
+    PSIM_REGION_BEGIN(e, FPHASE_NLIST);
     double t0 = psim_now();
-    if (plan_tiles(e, m))
+    if (plan_tiles(e, m)) {
+        PSIM_REGION_END(e, FPHASE_NLIST);
         return -1;
+    }
     /* shell b holds the pairs with r2 <= thr[b]: thr[b] = (cutoff + (b + 1) skin / B)^2 */
     double thr[FORCE_BUCKETS];
     for (int b = 0; b < FORCE_BUCKETS; b++) {
@@ -694,6 +697,7 @@ int force_build_lists(psim_sim *e, fmodel *m)
     if (restart_fast(e, m))
         oom = 1;
     e->stats.phase_s[FPHASE_NLIST] += psim_now() - t0;
+    PSIM_REGION_END(e, FPHASE_NLIST);
     m->drift = 0;
     m->since_build = 0;
     m->closing = 2 * force_drift_bound(m);

@@ -692,35 +692,44 @@ typedef void (*tile_fn)(const fmodel *m, psim_store *s, ftile *t);
 /* Tile ft's fn, timed as phase (its seconds kept in the tile: tf for the
  * force, ti for the rest), and a poll with its pair tests (the naive
  * loop's own polls count those); after a stop asked, nothing (the step is
- * abandoned). */
+ * abandoned).  region: the tile is its own LIKWID region of the phase, in
+ * the thread that runs it (where the force and the integrate tiles
+ * interleave: src/engine/timer.h). */
 static void tile_timed(const fmodel *m, psim_store *s, psim_thread_stats *ts, tile_fn fn,
-                       int phase, ftile *ft)
+                       int phase, int region, ftile *ft)
 {
     if (psim_stop_requested())
         return;
+    if (region)
+        PSIM_REGION_THREAD_BEGIN(m->sim, phase);
     double b0 = psim_now();
     fn(m, s, ft);
     double dt = psim_now() - b0;
+    if (region)
+        PSIM_REGION_THREAD_END(m->sim, phase);
     *(phase == FPHASE_FORCE ? &ft->tf : &ft->ti) = dt;
     psim_tstat_add(ts, phase, dt, 1, ft->n);
     psim_poll(m->sim, phase == FPHASE_FORCE && !m->naive ? ft->tests : 0);
 }
 
-/* Tile ft's task running fn, timed as phase (src/engine/task.h). */
+/* Tile ft's task running fn, timed as phase, a region of its own if
+ * region (src/engine/task.h). */
 PSIM_TASK_SPAWN static void task_spawn_tile(const fmodel *m, psim_store *s, psim_thread_stats *ts,
-                                            tile_fn fn, int phase, int graph, ftile *ft)
+                                            tile_fn fn, int phase, int region, int graph,
+                                            ftile *ft)
 {
-#pragma omp task firstprivate(ft, m, s, ts, fn, phase) default(none) if (graph)
-    tile_timed(m, s, ts, fn, phase, ft);
+#pragma omp task firstprivate(ft, m, s, ts, fn, phase, region) default(none) if (graph)
+    tile_timed(m, s, ts, fn, phase, region, ft);
 }
 
-/* One task per tile running fn, timed as phase; returns when all are done
- * (called inside a parallel region's single). */
+/* One task per tile running fn, timed as phase, each a region of its own
+ * if region; returns when all are done (called inside a parallel region's
+ * single). */
 static void run_tiles(const fmodel *m, psim_store *s, psim_thread_stats *ts, tile_fn fn,
-                      int phase, int graph)
+                      int phase, int region, int graph)
 {
     for (uint32_t t = 0; t < m->ntiles; t++)
-        task_spawn_tile(m, s, ts, fn, phase, graph, &m->tiles[t]);
+        task_spawn_tile(m, s, ts, fn, phase, region, graph, &m->tiles[t]);
 #pragma omp taskwait
 }
 
@@ -738,37 +747,38 @@ static void run_round(const fmodel *m, psim_store *s, psim_thread_stats *ts, til
     if (m->rounds == FORCE_ROUNDS_STATIC) {
 #pragma omp for schedule(static)
         for (uint32_t t = 0; t < m->ntiles; t++)
-            tile_timed(m, s, ts, fn, phase, &m->tiles[t]);
+            tile_timed(m, s, ts, fn, phase, 0, &m->tiles[t]);
     } else {
 #pragma omp for schedule(dynamic, 1)
         for (uint32_t t = 0; t < m->ntiles; t++)
-            tile_timed(m, s, ts, fn, phase, &m->tiles[t]);
+            tile_timed(m, s, ts, fn, phase, 0, &m->tiles[t]);
     }
 }
 
-/* The step's tasks.  One thread: a sweep row by row of the tile grid,
- * each tile's force, then the integrate of the tile to its west (whose
- * sources' forces are all done once its east neighbour's is), and the
- * row's last tile's: the positions the forces have just read are still
- * in the cache when they move (1e6 particles: forces and moves 11% less
- * than in two rounds).  Threads: two rounds, every force, then every
- * integrate (the same work as dependencies of the sweep cost 7-10% more at
- * 1e5 particles, some 32 tasks a step: docs/performance.md). */
+/* The step's tasks, each tile a region of its own.  One thread: a sweep
+ * row by row of the tile grid, each tile's force, then the integrate of
+ * the tile to its west (whose sources' forces are all done once its east
+ * neighbour's is), and the row's last tile's: the positions the forces
+ * have just read are still in the cache when they move (1e6 particles:
+ * forces and moves 11% less than in two rounds).  Threads: two rounds,
+ * every force, then every integrate (the same work as dependencies of the
+ * sweep cost 7-10% more at 1e5 particles, some 32 tasks a step:
+ * docs/performance.md). */
 static void run_step(const fmodel *m, psim_store *s, psim_thread_stats *ts, int graph)
 {
     const uint32_t row = (uint32_t)m->sweep_row;
     if (graph) {
-        run_tiles(m, s, ts, tile_force, FPHASE_FORCE, graph);
-        run_tiles(m, s, ts, tile_integrate, FPHASE_INTEGRATE, graph);
+        run_tiles(m, s, ts, tile_force, FPHASE_FORCE, 1, graph);
+        run_tiles(m, s, ts, tile_integrate, FPHASE_INTEGRATE, 1, graph);
         return;
     }
     for (uint32_t k = 0; k < m->ntiles; k++) {
-        task_spawn_tile(m, s, ts, tile_force, FPHASE_FORCE, graph, &m->tiles[m->sweep[k]]);
+        task_spawn_tile(m, s, ts, tile_force, FPHASE_FORCE, 1, graph, &m->tiles[m->sweep[k]]);
         if (k % row > 0)
-            task_spawn_tile(m, s, ts, tile_integrate, FPHASE_INTEGRATE, graph,
+            task_spawn_tile(m, s, ts, tile_integrate, FPHASE_INTEGRATE, 1, graph,
                             &m->tiles[m->sweep[k - 1]]);
         if (k % row == row - 1)
-            task_spawn_tile(m, s, ts, tile_integrate, FPHASE_INTEGRATE, graph,
+            task_spawn_tile(m, s, ts, tile_integrate, FPHASE_INTEGRATE, 1, graph,
                             &m->tiles[m->sweep[k]]);
     }
 }
@@ -787,8 +797,13 @@ int force_step_lists(psim_sim *e, fmodel *m)
     if (graph && m->rounds != FORCE_ROUNDS_TASKS) {
 #pragma omp parallel num_threads(e->threads)
         {
+            /* a region a round in every thread, to the round's barrier */
+            PSIM_REGION_THREAD_BEGIN(e, FPHASE_FORCE);
             run_round(m, s, ts, tile_force, FPHASE_FORCE);
+            PSIM_REGION_THREAD_END(e, FPHASE_FORCE);
+            PSIM_REGION_THREAD_BEGIN(e, FPHASE_INTEGRATE);
             run_round(m, s, ts, tile_integrate, FPHASE_INTEGRATE);
+            PSIM_REGION_THREAD_END(e, FPHASE_INTEGRATE);
         }
     } else {
 #pragma omp parallel num_threads(e->threads) if (graph)
@@ -805,9 +820,8 @@ int force_step_lists(psim_sim *e, fmodel *m)
     e->stats.phase_s[FPHASE_INTEGRATE] += wall * (1 - share);
     e->stats.counter[FC_TASKS] += graph && m->rounds == FORCE_ROUNDS_TASKS ? 2 * m->ntiles : 0;
     int rc = finish(e, m);
-    double t1 = psim_now();
-    tiles_drift(m, s);   /* the bookkeeping of the moves: timed with them */
-    e->stats.phase_s[FPHASE_INTEGRATE] += psim_now() - t1;
+    /* the bookkeeping of the moves: timed with them */
+    PSIM_TIMED(e, FPHASE_INTEGRATE, tiles_drift(m, s));
     return rc;
 }
 
@@ -815,11 +829,13 @@ int force_step_lists(psim_sim *e, fmodel *m)
 int force_step_naive(psim_sim *e, fmodel *m)
 {
     psim_store *s = &e->st;
+    PSIM_REGION_BEGIN(e, FPHASE_FORCE);
     double t0 = psim_now();
 #pragma omp parallel num_threads(e->threads)
 #pragma omp single
-    run_tiles(m, s, e->tstats, block_naive, FPHASE_FORCE, 1);
+    run_tiles(m, s, e->tstats, block_naive, FPHASE_FORCE, 0, 1);
     e->stats.phase_s[FPHASE_FORCE] += psim_now() - t0;
+    PSIM_REGION_END(e, FPHASE_FORCE);
     e->stats.counter[FC_TASKS] += m->ntiles;
     double *tx = s->x, *ty = s->y;
     s->x = s->x2, s->y = s->y2;
