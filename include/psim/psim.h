@@ -406,7 +406,10 @@ PSIM_API int psim_write_dump(psim_sim *s, FILE *f, long step);
 PSIM_API int psim_write_stats_json(FILE *f, const psim_sim *s, const char *scene_name,
                                    double total_s, const char *extra);
 
-/* Name of the allocator psim was built with ("jemalloc" or "libc"). */
+/* The allocator the library's own memory comes from in this process:
+ * "jemalloc" where jemalloc is the program's malloc (the psim program
+ * links it; the library itself never does), else "libc" (aligned_alloc
+ * and free, whatever malloc the program has). */
 PSIM_API const char *psim_allocator(void);
 
 #ifdef __cplusplus

@@ -39,6 +39,8 @@ static void version(void)
              PSIM_VERSION_PATCH);
     CHECK_MSG(strcmp(text, PSIM_VERSION) == 0, "%s", text);
     CHECK_MSG(strcmp(psim_version(), PSIM_VERSION) == 0, "%s", psim_version());
+    /* this program links no jemalloc: the library keeps the C library's */
+    CHECK_MSG(strcmp(psim_allocator(), "libc") == 0, "%s", psim_allocator());
 }
 
 static void box(void)
