@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# The installed package (docs/install.md), run by ctest as install.WHAT:
+# The installed package (docs/install.md, docs/api.md), run by ctest as
+# install.WHAT:
 #   tree                cmake --install the build tree into a staging prefix;
 #                       every file is there, none of the text files names the
 #                       staging prefix or the build or source tree; then the
@@ -19,6 +20,14 @@
 #                       shared library), with --static and libpsim.a, and
 #                       linked with jemalloc too, whose malloc the library
 #                       then uses
+#   example_cmake       examples/c built with CMake (psim::psim_shared) and
+#   example_pkgconfig   with cc $(pkg-config --cflags --libs psim): run on a
+#                       scene, its output is psim --final's, byte for byte
+#   python              examples/python/run_scene.py loads the installed
+#                       libpsim.so.0 with ctypes: its states (read from a
+#                       file, made from numpy arrays) are psim --final's, and
+#                       Python's process keeps its own malloc; a wrong
+#                       reference makes it fail
 #   man                 share/man/man1/psim.1 names every long option of
 #                       every --help, every subcommand and model; it and the
 #                       completion are what cmake/psim_docs.py makes from the
@@ -30,7 +39,7 @@
 # ctest gives the build's settings in PSIM_INSTALL_* (tests/CMakeLists.txt).
 # usage: install.sh WHAT
 set -euo pipefail
-what=${1:?usage: install.sh tree|version|library|cmake_consumer|pkgconfig_consumer|man|completion}
+what=${1:?usage: install.sh tree|version|library|cmake_consumer|pkgconfig_consumer|example_cmake|example_pkgconfig|python|man|completion}
 here=$(cd "$(dirname "$0")" && pwd)
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 
@@ -137,6 +146,19 @@ needs()
     else
         ! grep -qF "[libpsim.so" <<<"$dyn" || fail "$3: the program loads libpsim.so, not libpsim.a"
     fi
+}
+
+# A python3 with numpy (Debian's, where the one on PATH lacks it).
+numpy_python()
+{
+    local py
+    for py in python3 /usr/bin/python3; do
+        if "$py" -c 'import numpy' 2>/dev/null; then
+            echo "$py"
+            return 0
+        fi
+    done
+    fail "no python3 with numpy (run scripts/install-test-deps.sh)"
 }
 
 # The long options a help text lists: "  -m, --model NAME", "      --steps S",
@@ -307,6 +329,71 @@ pkgconfig_consumer)
         LD_LIBRARY_PATH=$libdir run_consumer "$tmp/consumer_jemalloc" pkgconfig_jemalloc jemalloc
     fi
     echo "install: cc consumer.c $flags (and --static with libpsim.a): the consumer's final state is psim's"
+    ;;
+
+example_cmake)
+    scene_and_reference
+    if ! "$PSIM_INSTALL_CMAKE" -S "$PSIM_INSTALL_SOURCE/examples/c" -B "$tmp/b" \
+            -G "$PSIM_INSTALL_GENERATOR" -DCMAKE_MAKE_PROGRAM="$PSIM_INSTALL_MAKE" \
+            -DCMAKE_C_COMPILER="$PSIM_INSTALL_CC" -DCMAKE_PREFIX_PATH="$prefix" \
+            -DCMAKE_FIND_PACKAGE_NO_PACKAGE_REGISTRY=ON >"$tmp/configure.log" 2>&1 ||
+        ! "$PSIM_INSTALL_CMAKE" --build "$tmp/b" >"$tmp/build.log" 2>&1; then
+        sed 's/^/  | /' "$tmp/configure.log" "$tmp/build.log" 2>/dev/null >&2
+        fail "examples/c did not build with CMake against $prefix"
+    fi
+    needs "$tmp/b/run_scene" yes "examples/c (psim::psim_shared)"
+    run_ok "$tmp/b/run_scene" "$tmp/scene.in" 2 >"$tmp/out.txt"
+    same_file "$tmp/out.txt" "$tmp/ref.txt" "examples/c's run_scene (CMake) and psim --final"
+    grep -q "run_scene: psim $version, discrete model, 600 disks, 5 steps on 2 threads" "$tmp/.run_ok.err" ||
+        fail "run_scene's summary is not the run's: $(head -1 "$tmp/.run_ok.err")"
+    echo "install: examples/c built with CMake: run_scene's state is psim --final's"
+    ;;
+
+example_pkgconfig)
+    scene_and_reference
+    export PKG_CONFIG_PATH=$libdir/pkgconfig
+    # as docs/api.md gives it
+    # shellcheck disable=SC2046 # the flags are words
+    if ! (cd "$tmp" && "$PSIM_INSTALL_CC" "$PSIM_INSTALL_SOURCE/examples/c/run_scene.c" \
+            $("$PSIM_INSTALL_PKG_CONFIG" --cflags --libs psim) -o run_scene) >"$tmp/cc.log" 2>&1; then
+        sed 's/^/  | /' "$tmp/cc.log" >&2
+        fail "cc run_scene.c \$(pkg-config --cflags --libs psim) failed"
+    fi
+    needs "$tmp/run_scene" yes "examples/c (pkg-config)"
+    LD_LIBRARY_PATH=$libdir run_ok "$tmp/run_scene" "$tmp/scene.in" >"$tmp/out.txt"
+    same_file "$tmp/out.txt" "$tmp/ref.txt" "examples/c's run_scene (pkg-config) and psim --final"
+    # a scene it cannot read: one line naming the file, exit 1
+    printf '3\n10\n1\n2\n0 1 1 0 0\n' >"$tmp/short.in"
+    LD_LIBRARY_PATH=$libdir expect_fail --rc 1 "short.in:6: unexpected end of file" \
+        "$tmp/run_scene" "$tmp/short.in"
+    # the program docs/api.md shows is this one
+    awk '/^## A complete program/ { f = 1 } f && /^```c$/ { p = 1; next } p && /^```$/ { exit } p' \
+        "$PSIM_INSTALL_SOURCE/docs/api.md" >"$tmp/doc.c"
+    same_file "$tmp/doc.c" "$PSIM_INSTALL_SOURCE/examples/c/run_scene.c" \
+        "the program in docs/api.md and examples/c/run_scene.c"
+    echo "install: examples/c built with pkg-config: run_scene's state is psim --final's"
+    ;;
+
+python)
+    scene_and_reference
+    py=$(numpy_python)
+    lib=$libdir/$soname
+    example=$PSIM_INSTALL_SOURCE/examples/python/run_scene.py
+    run_ok "$py" "$example" --lib "$lib" --threads 2 --final "$tmp/ref.txt" "$tmp/scene.in" >"$tmp/out.txt"
+    grep -q "discrete model, 600 disks, 5 steps, allocator libc;.* the state is psim's" "$tmp/out.txt" ||
+        fail "run_scene.py did not say what it ran: $(cat "$tmp/out.txt")"
+    # Python keeps its own malloc: loading the library brings no jemalloc
+    maps=$("$py" -c 'import ctypes, sys; ctypes.CDLL(sys.argv[1]); print(open("/proc/self/maps").read())' "$lib") ||
+        fail "python3 could not load $lib"
+    grep -qF "$(basename "$(readlink -f "$lib")")" <<<"$maps" || fail "python3's maps do not show $lib loaded"
+    ! grep -q jemalloc <<<"$maps" || fail "loading $lib brought jemalloc into python3"
+    # a reference one disk off: the check must see it
+    awk 'NR == 7 { $3 = sprintf("%.17g", $3 + 1) } { print }' "$tmp/ref.txt" >"$tmp/wrong.txt"
+    rc=0
+    "$py" "$example" --lib "$lib" --final "$tmp/wrong.txt" "$tmp/scene.in" >/dev/null 2>"$tmp/err.txt" || rc=$?
+    ((rc == 1)) && grep -q "disk 6: x is" "$tmp/err.txt" ||
+        fail "run_scene.py against a wrong reference: exit $rc, $(cat "$tmp/err.txt")"
+    echo "install: ctypes and numpy ($py): $(cat "$tmp/out.txt")"
     ;;
 
 man)
