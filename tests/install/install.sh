@@ -231,8 +231,8 @@ PY
     [[ -z $others ]] || fail "$so exports symbols outside the API: $(paste -sd' ' <<<"$others")"
     extra=$(comm -23 "$tmp/exported.txt" "$tmp/declared.txt")
     [[ -z $extra ]] || fail "$so exports functions no installed header declares: $(paste -sd' ' <<<"$extra")"
-    missing=$(comm -13 "$tmp/exported.txt" "$tmp/declared.txt")
-    [[ -z $missing ]] || fail "$so does not export functions the headers declare: $(paste -sd' ' <<<"$missing")"
+    absent=$(comm -13 "$tmp/exported.txt" "$tmp/declared.txt")
+    [[ -z $absent ]] || fail "$so does not export functions the headers declare: $(paste -sd' ' <<<"$absent")"
     echo "install: $soname exports the $(wc -l <"$tmp/exported.txt") functions psim/*.h declares, nothing else; needs $(grep -c NEEDED <<<"$dyn") libraries, no jemalloc"
     ;;
 
@@ -391,8 +391,9 @@ python)
     awk 'NR == 7 { $3 = sprintf("%.17g", $3 + 1) } { print }' "$tmp/ref.txt" >"$tmp/wrong.txt"
     rc=0
     "$py" "$example" --lib "$lib" --final "$tmp/wrong.txt" "$tmp/scene.in" >/dev/null 2>"$tmp/err.txt" || rc=$?
-    ((rc == 1)) && grep -q "disk 6: x is" "$tmp/err.txt" ||
+    if ((rc != 1)) || ! grep -q "disk 6: x is" "$tmp/err.txt"; then
         fail "run_scene.py against a wrong reference: exit $rc, $(cat "$tmp/err.txt")"
+    fi
     echo "install: ctypes and numpy ($py): $(cat "$tmp/out.txt")"
     ;;
 
