@@ -3,10 +3,15 @@
 #   bin/psim                                   the program
 #   bin/psim-plot, bin/psim-animate            charts and animations of runs
 #                                              (scripts/psim-plot, scripts/animate)
-#   lib/libpsim.a, include/psim/*.h            the library and its API
-#   lib/cmake/psim/psim{Config,ConfigVersion,Targets}.cmake
-#                                              find_package(psim), psim::psim
-#   lib/pkgconfig/psim.pc                      pkg-config --static psim
+#   lib/libpsim.so.0.1.0, libpsim.so.0, libpsim.so
+#                                              the shared library (SONAME
+#                                              libpsim.so.0) and its links
+#   lib/libpsim.a                              the static library
+#   include/psim/*.h                           their API
+#   lib/cmake/psim/psim{Config,ConfigVersion,Targets*}.cmake
+#                                              find_package(psim): psim::psim,
+#                                              psim::psim_shared, psim::psim_static
+#   lib/pkgconfig/psim.pc                      pkg-config psim
 #   share/man/man1/psim.1                      the man page
 #   share/bash-completion/completions/psim     the bash completion
 #   share/doc/psim/*.md, img/, ...             docs/ and README.md
@@ -24,12 +29,19 @@ set(PSIM_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/psim)
 # with the sanitizer's runtime: the installed package asks for it (in the
 # build tree add_link_options already does).
 if(PSIM_SANITIZE)
-  target_link_options(psimlib INTERFACE "$<INSTALL_INTERFACE:-fsanitize=${PSIM_SANITIZE}>")
+  foreach(lib psimlib psim_shared)
+    target_link_options(${lib} INTERFACE "$<INSTALL_INTERFACE:-fsanitize=${PSIM_SANITIZE}>")
+  endforeach()
 endif()
 
 install(TARGETS psim RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT Runtime)
-install(TARGETS psimlib EXPORT psimTargets
-        ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT Development)
+# The shared library libpsim.so.0.1.0 and its SONAME's link libpsim.so.0
+# (what programs load) are the component Library; libpsim.so (what -lpsim
+# links) goes with the Development files.
+install(TARGETS psimlib psim_shared psim_default EXPORT psimTargets
+        ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT Development
+        LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT Library
+                NAMELINK_COMPONENT Development)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/include/psim
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} COMPONENT Development
         FILES_MATCHING PATTERN "*.h")
@@ -48,26 +60,32 @@ install(FILES ${PROJECT_BINARY_DIR}/package/psimConfig.cmake
         DESTINATION ${PSIM_CMAKE_DIR} COMPONENT Development)
 
 # ---- pkg-config: psim.pc ----------------------------------------------------
-# libpsim.a is static: what it links goes to Libs.private (pkg-config
-# --static).  hwloc and jemalloc are named by the flags their own .pc files
-# give for linking their shared libraries (-lhwloc, -ljemalloc), not as
-# Requires.private: with --static that would pull in hwloc's own
+# `pkg-config --libs psim` gives -L${libdir} -lpsim, which links
+# libpsim.so: it names its own libraries (DT_NEEDED).  What libpsim.a
+# links goes to Libs.private (pkg-config --static).  hwloc is named by the
+# flags its own .pc file gives for linking its shared library (-lhwloc),
+# not as Requires.private: with --static that would pull in hwloc's own
 # Libs.private (Debian's names -ludev, whose libudev.so only libudev-dev
 # has), flags for linking hwloc itself statically, which no one asked for.
 # OpenMP by the compiler's flag (-fopenmp: the same compiler family must
-# link, for its OpenMP runtime); in a sanitizer build its runtime too.
-# (CMake's pkg-config call keeps -L of the compiler's own directories:
-# dropped, as pkg-config itself drops them.)
+# link, for its OpenMP runtime).  A sanitizer build's libraries, shared
+# and static, hold instrumented code: every program that links them needs
+# the sanitizer, in Libs.  (CMake's pkg-config call keeps -L of the
+# compiler's own directories: dropped, as pkg-config itself drops them.)
 separate_arguments(PSIM_PC_OPENMP UNIX_COMMAND "${OpenMP_C_FLAGS}")
 set(PSIM_PC_LIBS_PRIVATE ${PSIM_PC_OPENMP} -lm)
-foreach(flag IN LISTS psim_hwloc_LDFLAGS psim_jemalloc_LDFLAGS)
+foreach(flag IN LISTS psim_hwloc_LDFLAGS)
   string(REGEX REPLACE "^-L" "" dir "${flag}")
   if(NOT (flag MATCHES "^-L" AND dir IN_LIST CMAKE_C_IMPLICIT_LINK_DIRECTORIES))
     list(APPEND PSIM_PC_LIBS_PRIVATE "${flag}")
   endif()
 endforeach()
+foreach(lib IN LISTS CMAKE_DL_LIBS)
+  list(APPEND PSIM_PC_LIBS_PRIVATE -l${lib})
+endforeach()
+set(PSIM_PC_LIBS "")
 if(PSIM_SANITIZE)
-  list(APPEND PSIM_PC_LIBS_PRIVATE -fsanitize=${PSIM_SANITIZE})
+  set(PSIM_PC_LIBS " -fsanitize=${PSIM_SANITIZE}")
 endif()
 if(PSIM_LIKWID)
   list(APPEND PSIM_PC_LIBS_PRIVATE -llikwid)

@@ -1,8 +1,16 @@
-/* psim — public API of the psim library.
+/* psim — public API of the psim library (docs/api.md).
  *
- * A scene is read (or built) by id; a simulation owns the particles in its
- * own structure-of-arrays store, re-sorted every step, and hands the state
- * back by id.  Nothing here depends on the CLI. */
+ * A scene (an opaque handle) is read, generated or built particle by
+ * particle, by id; a simulation made from it owns the particles in its own
+ * structure-of-arrays store, re-sorted every step, and hands the state
+ * back by id.  Nothing here depends on the CLI.
+ *
+ * Every function declared here and in psim/topology.h is exported from
+ * libpsim.so.0, and nothing else is.  As long as the SONAME is
+ * libpsim.so.0, what is declared here stays: no function is removed or
+ * changes its signature or meaning, and every structure keeps its layout
+ * (psim_stats, which only the library allocates, may grow at its end);
+ * what is added comes as new functions. */
 #ifndef PSIM_PSIM_H
 #define PSIM_PSIM_H
 
@@ -14,22 +22,40 @@
 extern "C" {
 #endif
 
+/* The library's functions: exported from libpsim.so, which hides every
+ * other symbol (it is built with -fvisibility=hidden). */
+#if defined(__GNUC__) || defined(__clang__)
+#define PSIM_API __attribute__((visibility("default")))
+#else
+#define PSIM_API
+#endif
+
+/* The version of these headers (CMake checks them against the project's
+ * version); psim_version() is the library's, which a program may compare
+ * with PSIM_VERSION to tell that it runs with the library it was built
+ * against. */
+#define PSIM_VERSION_MAJOR 0
+#define PSIM_VERSION_MINOR 1
+#define PSIM_VERSION_PATCH 0
 #define PSIM_VERSION "0.1.0"
+/* "MAJOR.MINOR.PATCH" of the library itself. */
+PSIM_API const char *psim_version(void);
+
 /* The most steps a run may have (--steps, -s, a scene's S). */
 #define PSIM_MAX_STEPS 1000000000L
+/* The most particles a scene may have (a scene's N). */
+#define PSIM_MAX_PARTICLES 2147483647L
 
-/* One error message, "FILE:LINE: what" where a file is involved. */
+/* One error message, "FILE:LINE: what" where a file is involved.  A
+ * function that fails fills the psim_error it was given (never NULL); the
+ * caller owns it, on its stack or wherever it likes. */
 typedef struct psim_error {
     char msg[512];
     int usage;   /* the command line is at fault (exit status 2), not the input */
 } psim_error;
 
-void psim_error_set(psim_error *err, const char *fmt, ...)
-    __attribute__((format(printf, 2, 3)));
-
 /* ---- scenes ------------------------------------------------------------ */
 
-/* A scene, by particle id 0..n-1. */
 /* Scene formats: the course edition each comes from. */
 typedef enum {
     PSIM_SCENE_2024 = 0,  /* CS3210 AY2024/25: N, L, r, S, then N particle lines */
@@ -39,79 +65,59 @@ typedef enum {
                            * from n and a seed (psim_generate_scene) */
 } psim_scene_format;
 
-/* What a restart file (--restart) adds to a scene: its first line,
- * "#psim restart 1 KEY=VALUE ...", names the model and the steps done, the
- * model's options and the engine's grid plan; its particle lines are in
- * the order the run kept them, with the model's own columns after vy
- * (docs/formats.md, "Restart files"). */
-#define PSIM_RESTART_COLS 8
-#define PSIM_RESTART_CUTS 1026   /* tiles cut anew: at most 512 a side */
-/* A model's own per-particle column: its name and the values it takes.
- * An integer column holds whole numbers in [lo, hi] (within +-2^53, where
- * every integer is a double), written and read as integers; any other a
- * number in [lo, hi] (finite). */
-typedef struct psim_restart_col {
-    const char *name;
-    int integer;
-    double lo, hi;
-} psim_restart_col;
-typedef struct psim_restart {
-    int present;
-    long line;                  /* the header's line in the file */
-    long step;                  /* steps done before this file was written */
-    char model[32];             /* the model that wrote it */
-    char *options;              /* its options "K=V,K=V" (NULL: none) */
-    int has_grid, grid_has_bbox;
-    double grid[7];             /* reach, occupancy, tile cells, the bbox if any */
-    int ncuts;                  /* the tiles' cuts: TG + 1 columns, then TG + 1 */
-    int32_t cuts[PSIM_RESTART_CUTS]; /* rows (0: the default cuts) */
-    int ncols;
-    char colname[PSIM_RESTART_COLS][24];
-    psim_restart_col colspec[PSIM_RESTART_COLS]; /* each column's, the model's */
-    double *col[PSIM_RESTART_COLS];  /* n each, by id */
-    int32_t *order;             /* n: the ids in the file's order */
-    int nvalues;                /* the model's measured values (sums kept */
-    char valname[8][24];        /* over the steps so far) */
-    double value[8];
-} psim_restart;
+/* A scene: N disks of radius r by id 0..N-1, each a position and a
+ * velocity, in the box [0, L] x [0, L], and the steps S to run.  Opaque:
+ * made by psim_scene_new or psim_scene_load, freed by psim_scene_free. */
+typedef struct psim_scene psim_scene;
 
-/* A scene, by particle id 0..n-1. */
-typedef struct psim_scene {
-    long n;         /* particles */
-    double L;       /* box side: the box is [0, L] x [0, L] */
-    double r;       /* disk radius */
-    long steps;     /* steps to run */
-    double *x, *y, *vx, *vy;
-    psim_scene_format format;
-    int print;      /* 2019 format: 1 for "print" (state after every step) */
-    int generated;  /* 2019 format: the particle lines were absent */
-    char *source;   /* the file it was read from (NULL: made, not read) */
-    long *line;     /* n: the line of each particle in it (NULL likewise) */
-    long header_line[4];    /* the lines of N, L, r and S in it (0 likewise) */
-    psim_restart restart;   /* present: the scene is a restart file */
-} psim_scene;
+/* An empty scene (no disks, L = r = 0, no steps, the 2024 format), or
+ * NULL without memory.  psim_scene_set_box gives it its box and disks. */
+PSIM_API psim_scene *psim_scene_new(void);
+/* Free the scene and all it holds; NULL is a no-op. */
+PSIM_API void psim_scene_free(psim_scene *sc);
 
-/* Allocate the arrays of a scene of n particles (zeroed). */
-int psim_scene_alloc(psim_scene *sc, long n, psim_error *err);
-void psim_scene_free(psim_scene *sc);
-/* "FILE:LINE: " of particle i into buf (an error message's prefix), or ""
- * for a scene that was made, not read. */
-void psim_scene_where(const psim_scene *sc, long i, char *buf, size_t size);
-/* The same for the header's line of N, L, r or S (k = 0..3). */
-enum { PSIM_LINE_N, PSIM_LINE_L, PSIM_LINE_R, PSIM_LINE_S };
-void psim_scene_where_header(const psim_scene *sc, int k, char *buf, size_t size);
-
-/* Read a scene of either format (detected by the fifth line: a word
- * "print" or "perf" makes it a 2019 scene, whose particle lines may be
- * absent: then they are generated by psim_scene_generate_2019).  A
- * restart file is held to the model its first line names: every header
- * value, and the model's own columns (each one there, none unknown, each
- * value in its range).  On error fills err with "PATH:LINE: message". */
-int psim_scene_read(const char *path, psim_scene *sc, psim_error *err);
-int psim_scene_read_stream(FILE *f, const char *name, psim_scene *sc,
-                           psim_error *err);
+/* Read a scene file (docs/formats.md) of either course format: a word
+ * "print" or "perf" on the fifth line makes it a 2019 scene, whose
+ * particle lines may be absent: then they are generated by
+ * psim_scene_generate_2019 (seed 3210).  A restart file is held to the
+ * model its first line names: every header value, and the model's own
+ * columns (each one there, none unknown, each value in its range).
+ * Returns a new scene, or NULL with err set to "PATH:LINE: message". */
+PSIM_API psim_scene *psim_scene_load(const char *path, psim_error *err);
 /* Write a scene in the same format (shortest round-trip numbers). */
-int psim_scene_write(FILE *f, const psim_scene *sc);
+PSIM_API int psim_scene_write(FILE *f, const psim_scene *sc);
+
+/* Make the scene n disks (0 <= n <= PSIM_MAX_PARTICLES) in a box of side
+ * L, of radius r (0 < 2r < L, both finite) to run `steps` steps (0 ..
+ * PSIM_MAX_STEPS): every disk at (0, 0) at rest until set, the 2024
+ * format.  What the scene held before is freed.  0, or -1 with err set
+ * (the scene unchanged). */
+PSIM_API int psim_scene_set_box(psim_scene *sc, long n, double L, double r, long steps,
+                                psim_error *err);
+/* The steps to run (0 .. PSIM_MAX_STEPS): 0, or -1 with err set. */
+PSIM_API int psim_scene_set_steps(psim_scene *sc, long steps, psim_error *err);
+/* Disk i's position and velocity, each finite: 0, or -1 with err set
+ * (i outside 0..n-1, a value not finite; the disk unchanged). */
+PSIM_API int psim_scene_set_particle(psim_scene *sc, long i, double x, double y, double vx,
+                                     double vy, psim_error *err);
+/* Every disk at once from arrays of n values by id, each finite (any
+ * array may be NULL: that one is left as it is).  0, or -1 with err
+ * naming the lowest id of a value not finite (the scene unchanged). */
+PSIM_API int psim_scene_set_state(psim_scene *sc, const double *x, const double *y,
+                                  const double *vx, const double *vy, psim_error *err);
+/* Disk i into *x, *y, *vx, *vy (any may be NULL): 0, or -1 for an i
+ * outside 0..n-1 or a scene whose disks were taken. */
+PSIM_API int psim_scene_get_particle(const psim_scene *sc, long i, double *x, double *y,
+                                     double *vx, double *vy);
+/* Every disk into arrays of n values by id (any may be NULL): 0, or -1
+ * for a scene whose disks were taken (psim_create_taking). */
+PSIM_API int psim_scene_get_state(const psim_scene *sc, double *x, double *y, double *vx,
+                                  double *vy);
+PSIM_API long psim_scene_count(const psim_scene *sc);    /* N */
+PSIM_API double psim_scene_side(const psim_scene *sc);   /* L */
+PSIM_API double psim_scene_radius(const psim_scene *sc); /* r */
+PSIM_API long psim_scene_steps(const psim_scene *sc);    /* S */
+PSIM_API psim_scene_format psim_scene_get_format(const psim_scene *sc);
 
 /* Scene generator (the course generator's rules, plus placements). */
 typedef enum {
@@ -129,44 +135,40 @@ typedef struct psim_gen_params {
     psim_place place;
 } psim_gen_params;
 
-int psim_scene_generate(const psim_gen_params *p, psim_scene *sc,
-                        psim_error *err);
+/* Make the scene p asks for in sc, freeing what it held before: 0, or -1
+ * with err set (the scene unchanged). */
+PSIM_API int psim_scene_generate(const psim_gen_params *p, psim_scene *sc,
+                                 psim_error *err);
 /* The CS3210 AY2019/20 generator: positions uniform in [r, L - r] without
  * overlap (a disk is redrawn until it overlaps none placed before), then per
  * disk a speed uniform in [L/(8r), L/4] and an angle uniform in [0, 2 pi);
  * draws are rand() / (double)RAND_MAX of glibc's rand() seeded with seed
  * (3210 in the course), implemented here so every machine gives the same
- * scene.  sc->n, L, r must be set and the arrays allocated. */
-int psim_scene_generate_2019(psim_scene *sc, unsigned seed, psim_error *err);
-/* glibc's random() (TYPE_3 additive feedback), the generator behind
- * rand(): psim_glibc_srand then psim_glibc_rand give glibc's sequence. */
-typedef struct psim_glibc_rand_state {
-    int32_t r[34];
-    int f, b;
-} psim_glibc_rand_state;
-void psim_glibc_srand(psim_glibc_rand_state *g, unsigned seed);
-int psim_glibc_rand(psim_glibc_rand_state *g);
+ * scene.  The scene's n, L and r are set (psim_scene_set_box); its disks
+ * are drawn anew. */
+PSIM_API int psim_scene_generate_2019(psim_scene *sc, unsigned seed, psim_error *err);
 /* --substeps K (the 2019 authors' SLOW_FACTOR): velocities divided by K,
  * steps multiplied by K. */
-void psim_scene_substeps(psim_scene *sc, long k);
+PSIM_API void psim_scene_substeps(psim_scene *sc, long k);
 /* Area fraction n * pi * r^2 / L^2. */
-double psim_scene_density(const psim_scene *sc);
+PSIM_API double psim_scene_density(const psim_scene *sc);
 
 /* ---- simulation ---------------------------------------------------------- */
 
 /* Models, by name ("discrete", "ccd", ...); the list is in src/models. */
-int psim_model_count(void);
-const char *psim_model_name(int k);
-const char *psim_model_summary(int k);   /* one line */
+PSIM_API int psim_model_count(void);
+PSIM_API const char *psim_model_name(int k);
+PSIM_API const char *psim_model_summary(int k);   /* one line */
 /* The model a scene of this format is run with by default. */
-const char *psim_default_model(const psim_scene *sc);
+PSIM_API const char *psim_default_model(const psim_scene *sc);
 /* Option i of model k: its name and one line of help; -1 past the last. */
-int psim_model_option_info(int k, int i, const char **name, const char **help);
-/* Build the initial state of model's source for n particles from seed
- * (the force model: CS267's shuffled grid); model NULL: the first model
- * that has one.  -1 with err set when the model has none. */
-int psim_generate_scene(const char *model, long n, uint64_t seed, psim_scene *sc,
-                        psim_error *err);
+PSIM_API int psim_model_option_info(int k, int i, const char **name, const char **help);
+/* Make sc the initial state of model's source for n particles from seed
+ * (the force model: CS267's shuffled grid), freeing what it held before;
+ * model NULL: the first model that has one.  -1 with err set (the scene
+ * unchanged) when the model has none. */
+PSIM_API int psim_generate_scene(const char *model, long n, uint64_t seed, psim_scene *sc,
+                                 psim_error *err);
 
 typedef struct psim_config {
     const char *model;  /* a model name; NULL: the scene format's default */
@@ -178,7 +180,9 @@ typedef struct psim_config {
                          * built (-1: unknown, the default) */
 } psim_config;
 
-void psim_config_default(psim_config *cfg);
+/* The defaults: the scene's model, every thread, automatic tiles, no
+ * checks, no options, steps unknown. */
+PSIM_API void psim_config_default(psim_config *cfg);
 
 /* Timed phases of a step (CoMD-style timers around every phase).  The
  * engine's own phases come first and are the same for every model; each
@@ -226,45 +230,53 @@ typedef struct psim_stats {
                               * they are no longer tile_cells a side */
 } psim_stats;
 
+/* A simulation: the particles of a scene, the model that moves them and
+ * its statistics.  Opaque: made by psim_create, freed by psim_destroy. */
 typedef struct psim_sim psim_sim;
 
-psim_sim *psim_create(const psim_scene *sc, const psim_config *cfg,
-                      psim_error *err);
-/* The same, taking the scene's particle arrays: x, y, vx and vy are freed
- * (and set to NULL) as soon as the simulation holds the particles, before
- * the model sets itself up, so that the two copies never sit beside the
- * model's own memory.  The rest of the scene (n, L, r, steps, its format,
- * the line numbers that error messages name) stays the caller's. */
-psim_sim *psim_create_taking(psim_scene *sc, const psim_config *cfg,
-                             psim_error *err);
+/* A simulation of the scene, run as cfg says (NULL: psim_config_default's
+ * settings), or NULL with err set: an unknown model or option, a scene
+ * past the model's limits, no memory.  The scene is only read: the
+ * simulation holds its own copy, and the scene may be freed at once. */
+PSIM_API psim_sim *psim_create(const psim_scene *sc, const psim_config *cfg,
+                               psim_error *err);
+/* The same, taking the scene's disks: they are freed as soon as the
+ * simulation holds the particles, before the model sets itself up, so
+ * that the two copies never sit beside the model's own memory.  The rest
+ * of the scene (N, L, r, S, its format, the line numbers that error
+ * messages name) stays the caller's; without its disks, it can no longer
+ * make a simulation, be written, or be read or set disk by disk (those
+ * fail) until psim_scene_set_box gives it disks again. */
+PSIM_API psim_sim *psim_create_taking(psim_scene *sc, const psim_config *cfg,
+                                      psim_error *err);
 /* Advance one step.  Returns 0, or -1 with err set: a --check violation,
  * collisions that do not settle, or no memory for the contacts. */
-int psim_step(psim_sim *s, psim_error *err);
-long psim_step_index(const psim_sim *s);   /* steps done so far */
+PSIM_API int psim_step(psim_sim *s, psim_error *err);
+PSIM_API long psim_step_index(const psim_sim *s);   /* steps done so far */
 /* The model time one step advances (the force model's dt; one time unit
  * for the models whose velocities are per step), and the model time after
  * `step` steps: step times that (steps numbered on from a restart file's,
  * as psim_step_index). */
-double psim_step_time(const psim_sim *s);
-double psim_time_at(const psim_sim *s, long step);
+PSIM_API double psim_step_time(const psim_sim *s);
+PSIM_API double psim_time_at(const psim_sim *s, long step);
 /* 0, or -1 with err naming the step and the lowest id whose position or
  * velocity is NaN or infinite (checked before any state is written). */
-int psim_state_finite(const psim_sim *s, psim_error *err);
-long psim_count(const psim_sim *s);
+PSIM_API int psim_state_finite(const psim_sim *s, psim_error *err);
+PSIM_API long psim_count(const psim_sim *s);
 /* Current state by id; any pointer may be NULL. */
-void psim_get_state(const psim_sim *s, double *x, double *y, double *vx,
-                    double *vy);
-const psim_stats *psim_get_stats(const psim_sim *s);
+PSIM_API void psim_get_state(const psim_sim *s, double *x, double *y, double *vx,
+                             double *vy);
+PSIM_API const psim_stats *psim_get_stats(const psim_sim *s);
 /* Name of phase p (0 <= p < stats->nphases), or "?". */
-const char *psim_phase_name(const psim_sim *s, int p);
+PSIM_API const char *psim_phase_name(const psim_sim *s, int p);
 /* Value of the model's counter called name; 0 if it has none. */
-uint64_t psim_counter(const psim_sim *s, const char *name);
-const char *psim_sim_model(const psim_sim *s);
+PSIM_API uint64_t psim_counter(const psim_sim *s, const char *name);
+PSIM_API const char *psim_sim_model(const psim_sim *s);
 /* One line of per-step figures for the run summary (the model's). */
-void psim_print_step_summary(FILE *f, const psim_sim *s);
+PSIM_API void psim_print_step_summary(FILE *f, const psim_sim *s);
 /* The "left out:" line of the run summary: each stage the model left out,
  * in how many steps and why (nothing when none was). */
-void psim_print_skips(FILE *f, const psim_sim *s);
+PSIM_API void psim_print_skips(FILE *f, const psim_sim *s);
 
 /* Progress inside a long step: fn is called from inside psim_step (by any
  * one of its threads, one call at a time) once the step has run first_s
@@ -277,15 +289,15 @@ typedef struct psim_step_progress {
     const char *unit;   /* what a unit is: "events", "resolutions", ... */
 } psim_step_progress;
 typedef void (*psim_step_progress_fn)(void *ctx, const psim_step_progress *p);
-void psim_set_step_progress(psim_sim *s, psim_step_progress_fn fn, void *ctx,
-                            double first_s, double every_s);
+PSIM_API void psim_set_step_progress(psim_sim *s, psim_step_progress_fn fn, void *ctx,
+                                     double first_s, double every_s);
 /* Ask every running simulation to stop; async-signal-safe (a handler of
  * SIGINT may call it).  The step running ends at its model's next poll
  * (within milliseconds) and psim_step returns -1 with "step K:
  * interrupted", as every psim_step does from then on. */
-void psim_request_stop(void);
+PSIM_API void psim_request_stop(void);
 /* Whether a stop was asked (one atomic load). */
-int psim_stop_requested(void);
+PSIM_API int psim_stop_requested(void);
 
 /* What one OpenMP thread did, per phase: time busy in its own work items
  * (a waiting thread is not busy), work items (tiles, tasks, chunks) and
@@ -298,10 +310,10 @@ typedef struct psim_thread_stats {
     int cpu;
 } __attribute__((aligned(64))) psim_thread_stats;
 
-const psim_thread_stats *psim_get_thread_stats(const psim_sim *s, int *threads);
+PSIM_API const psim_thread_stats *psim_get_thread_stats(const psim_sim *s, int *threads);
 /* Account time the caller spent writing output (phase "output"). */
-void psim_add_output_time(psim_sim *s, double seconds);
-void psim_destroy(psim_sim *s);
+PSIM_API void psim_add_output_time(psim_sim *s, double seconds);
+PSIM_API void psim_destroy(psim_sim *s);
 
 /* ---- thermodynamic output (--thermo) -------------------------------------- */
 
@@ -320,15 +332,15 @@ typedef struct psim_thermo {
 } psim_thermo;
 /* 0, -1 without memory, or -2 when a total is beyond the largest double
  * (too_large names it). */
-int psim_thermo_measure(const psim_sim *s, psim_thermo *t);
+PSIM_API int psim_thermo_measure(const psim_sim *s, psim_thermo *t);
 /* The model's thermo columns (names of its counters, shown as the change
  * since the previous row): the k-th, or NULL after the last. */
 #define PSIM_THERMO_MAX 4
-const char *psim_thermo_column(const psim_sim *s, int k);
+PSIM_API const char *psim_thermo_column(const psim_sim *s, int k);
 /* Value of the model's measured quantity called name (psim_stats' values;
  * "virial": the sum over collisions of r_ab . dp_a, unit masses, where the
  * model keeps one); NAN if it has none. */
-double psim_value(const psim_sim *s, const char *name);
+PSIM_API double psim_value(const psim_sim *s, const char *name);
 
 /* ---- output -------------------------------------------------------------- */
 
@@ -340,7 +352,7 @@ double psim_value(const psim_sim *s, const char *name);
  * text that reads back to the same double; 0 <= digits <= PSIM_DIGITS_MAX
  * gives fixed notation with that many decimals and no negative zero.
  * Returns the length written. */
-int psim_format_double(char *buf, double v, int digits);
+PSIM_API int psim_format_double(char *buf, double v, int digits);
 
 /* Progress of long reads and writes, for a progress display: fn is
  * called after each block of a scene read (writing 0; done and total in
@@ -349,23 +361,23 @@ int psim_format_double(char *buf, double v, int digits);
  * NULL (the default): none. */
 typedef void (*psim_io_progress_fn)(void *ctx, int writing, long long done,
                                     long long total);
-void psim_set_io_progress(psim_io_progress_fn fn, void *ctx);
+PSIM_API void psim_set_io_progress(psim_io_progress_fn fn, void *ctx);
 
 /* Write lines "STEP i x y vx vy" for every particle in id order (in
  * parallel: chunks of lines are made by omp_get_max_threads() threads and
  * written in order, the same bytes for any thread count). */
-int psim_write_state(FILE *f, long step, long n, const double *x,
-                     const double *y, const double *vx, const double *vy,
-                     int digits);
+PSIM_API int psim_write_state(FILE *f, long step, long n, const double *x,
+                              const double *y, const double *vx, const double *vy,
+                              int digits);
 
 /* The model's own output of the current state, in its source's format
  * (psim_write_state for a model without one): step is the number written
  * at the start of each line, final marks the last state of the run (some
  * sources add columns there), digits < 0 the model's default. */
-int psim_write_output(psim_sim *s, FILE *f, long step, int final, int digits);
+PSIM_API int psim_write_output(psim_sim *s, FILE *f, long step, int final, int digits);
 /* The state in psim's own format (psim_write_state) for --trace; digits < 0
  * the model's default. */
-int psim_write_trace(psim_sim *s, FILE *f, long step, int digits);
+PSIM_API int psim_write_trace(psim_sim *s, FILE *f, long step, int digits);
 /* How the model's source prints: to standard output by default (else only
  * to --out), the state before the first step, after every step of a
  * "print" scene, after steps 1, 1 + period, 1 + 2 period, ... (period > 0:
@@ -375,19 +387,19 @@ typedef struct psim_output_style {
     long period;
     int final;
 } psim_output_style;
-psim_output_style psim_get_output_style(const psim_sim *s);
+PSIM_API psim_output_style psim_get_output_style(const psim_sim *s);
 /* The model's header line of an output file (nothing for most models). */
-int psim_write_header(psim_sim *s, FILE *f);
+PSIM_API int psim_write_header(psim_sim *s, FILE *f);
 /* The lines its source prints at the end of a run (CS267: "Simulation
  * Time = T seconds for N particles."), given the run's time in seconds;
  * nothing for a model whose source prints none. */
-void psim_print_source_summary(FILE *f, const psim_sim *s, double seconds);
+PSIM_API void psim_print_source_summary(FILE *f, const psim_sim *s, double seconds);
 
 /* The current state as a restart file: a scene psim reads back (any
  * model; with the model that wrote it, the run goes on exactly as if it
  * had not stopped: 2S steps give the bytes of S steps then S more).  steps
  * is the step count S written in it (how many steps running it takes). */
-int psim_write_restart(psim_sim *s, FILE *f, long steps);
+PSIM_API int psim_write_restart(psim_sim *s, FILE *f, long steps);
 
 /* One extended XYZ frame of the current state (--dump), as step: the
  * count, a comment line (the box as Lattice,
@@ -395,20 +407,23 @@ int psim_write_restart(psim_sim *s, FILE *f, long steps);
  * model time psim_time_at(step), and step), then "X i x y 0 vx vy 0 vx vy 0 r" per
  * disk in id order (shortest round-trip; species X, unit masses: the
  * momenta are the velocities). */
-int psim_write_dump(psim_sim *s, FILE *f, long step);
+PSIM_API int psim_write_dump(psim_sim *s, FILE *f, long step);
 
 /* Write the run's statistics as one JSON object.  scene_name may be NULL;
  * extra, if not NULL, holds more members ("key": value, ...) to include. */
-int psim_write_stats_json(FILE *f, const psim_sim *s, const char *scene_name,
-                          double total_s, const char *extra);
+PSIM_API int psim_write_stats_json(FILE *f, const psim_sim *s, const char *scene_name,
+                                   double total_s, const char *extra);
 
 /* s as a JSON string, quoted: quotes, backslashes and control characters
  * escaped, and a byte that is not part of well-formed UTF-8 written as
  * U+FFFD (NULL: ""). */
-void psim_write_json_string(FILE *f, const char *s);
+PSIM_API void psim_write_json_string(FILE *f, const char *s);
 
-/* Name of the allocator psim was built with ("jemalloc" or "libc"). */
-const char *psim_allocator(void);
+/* The allocator the library's own memory comes from in this process:
+ * "jemalloc" where jemalloc is the program's malloc (the psim program
+ * links it; the library itself never does), else "libc" (aligned_alloc
+ * and free, whatever malloc the program has). */
+PSIM_API const char *psim_allocator(void);
 
 #ifdef __cplusplus
 }

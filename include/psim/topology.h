@@ -15,15 +15,15 @@ extern "C" {
 typedef struct psim_topo psim_topo;
 
 /* Load this machine's topology (xml == NULL) or an hwloc XML file. */
-psim_topo *psim_topo_load(const char *xml, psim_error *err);
+PSIM_API psim_topo *psim_topo_load(const char *xml, psim_error *err);
 /* Take an already loaded hwloc_topology_t (used by tests that build their
  * own); the psim_topo owns it from then on. */
-psim_topo *psim_topo_wrap(void *hwloc_topology, psim_error *err);
-void psim_topo_free(psim_topo *t);
+PSIM_API psim_topo *psim_topo_wrap(void *hwloc_topology, psim_error *err);
+PSIM_API void psim_topo_free(psim_topo *t);
 /* Whether binding acts on this machine (not on a foreign XML topology). */
-int psim_topo_is_this_system(const psim_topo *t);
+PSIM_API int psim_topo_is_this_system(const psim_topo *t);
 /* Print the machine: CPU kinds and their infos, cores, PUs, caches, NUMA. */
-void psim_topo_print(FILE *f, const psim_topo *t);
+PSIM_API void psim_topo_print(FILE *f, const psim_topo *t);
 
 typedef enum {
     PSIM_PIN_NONE = 0, /* no binding */
@@ -40,8 +40,8 @@ typedef struct psim_pin_policy {
 } psim_pin_policy;
 
 /* Parse "none", "pcores", "ecores", "cores", "all" or "numa:K". */
-int psim_pin_parse(const char *text, psim_pin_policy *p, psim_error *err);
-const char *psim_pin_name(const psim_pin_policy *p, char *buf, size_t len);
+PSIM_API int psim_pin_parse(const char *text, psim_pin_policy *p, psim_error *err);
+PSIM_API const char *psim_pin_name(const psim_pin_policy *p, char *buf, size_t len);
 
 /* Where one thread goes. */
 typedef struct psim_pin_slot {
@@ -64,28 +64,28 @@ typedef struct psim_pin_plan {
  * policy.  Threads beyond the policy's cores go round-robin over its PUs,
  * second hardware threads of each core first, and the plan's notice says
  * so; on a machine of one CPU kind pcores and ecores mean every core. */
-int psim_pin_plan_make(const psim_topo *t, const psim_pin_policy *p,
-                       int threads, psim_pin_plan *plan, psim_error *err);
-void psim_pin_plan_free(psim_pin_plan *plan);
+PSIM_API int psim_pin_plan_make(const psim_topo *t, const psim_pin_policy *p,
+                                int threads, psim_pin_plan *plan, psim_error *err);
+PSIM_API void psim_pin_plan_free(psim_pin_plan *plan);
 /* Name of CPU kind `kind` ("IntelCore", or "kind1" without a CoreType). */
-const char *psim_topo_kind_name(const psim_topo *t, int kind);
+PSIM_API const char *psim_topo_kind_name(const psim_topo *t, int kind);
 /* Rank of the CPU kind of the PU with OS index pu (0 = least efficient),
  * or -1 when unknown. */
-int psim_topo_kind_of_pu(const psim_topo *t, int pu);
+PSIM_API int psim_topo_kind_of_pu(const psim_topo *t, int pu);
 /* Print the plan as a table: thread, PU, core, CPU kind, NUMA node. */
-void psim_pin_plan_print(FILE *f, const psim_topo *t, const psim_pin_plan *plan);
+PSIM_API void psim_pin_plan_print(FILE *f, const psim_topo *t, const psim_pin_plan *plan);
 
 /* Bind thread k of every later OpenMP team of plan->threads threads to
  * slot k, and read back where each runs (observed[k], an OS PU index, or
  * -1).  Binding acts only on this system; elsewhere observed is -1. */
-int psim_pin_apply(const psim_topo *t, const psim_pin_plan *plan,
-                   int *observed, psim_error *err);
+PSIM_API int psim_pin_apply(const psim_topo *t, const psim_pin_plan *plan,
+                            int *observed, psim_error *err);
 
 /* Memory policy: local (first touch by the working threads, the default)
  * or interleave (pages spread over the NUMA nodes of the plan). */
 typedef enum { PSIM_MEM_LOCAL = 0, PSIM_MEM_INTERLEAVE } psim_mem_policy;
-int psim_mem_apply(const psim_topo *t, const psim_pin_plan *plan,
-                   psim_mem_policy mem, psim_error *err);
+PSIM_API int psim_mem_apply(const psim_topo *t, const psim_pin_plan *plan,
+                            psim_mem_policy mem, psim_error *err);
 
 #ifdef __cplusplus
 }

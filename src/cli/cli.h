@@ -8,7 +8,7 @@
 #include <stdint.h>
 #include <time.h>
 
-#include "psim/psim.h"
+#include "../io/scene.h"
 #include "psim/topology.h"
 
 int cli_run(int argc, char **argv);   /* psim [OPTIONS] [SCENE [THREADS]] */

@@ -5,7 +5,7 @@
 #include <string.h>
 
 #include "cli.h"
-#include "psim/psim.h"
+#include "../io/scene.h"
 
 static void gen_usage(FILE *f)
 {
@@ -106,7 +106,7 @@ int cli_gen(int argc, char **argv)
     }
     p.seed = (uint64_t)seed;
     psim_error err = {{0}, 0};
-    psim_scene sc;
+    psim_scene sc = {0};
     if (psim_scene_generate(&p, &sc, &err)) {
         cli_err("psim gen: %s", err.msg);
         return err.usage ? 2 : 1;   /* options that ask the impossible are usage */
@@ -123,6 +123,6 @@ int cli_gen(int argc, char **argv)
     if (rc == 0)
         cli_err("psim gen: %ld disks, L %.17g, r %g, density %.4f", sc.n,
                 sc.L, sc.r, psim_scene_density(&sc));
-    psim_scene_free(&sc);
+    psim_scene_clear(&sc);
     return rc;
 }

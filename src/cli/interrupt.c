@@ -9,7 +9,7 @@
 #include <unistd.h>
 
 #include "cli.h"
-#include "psim/psim.h"
+#include "../io/scene.h"
 
 static const int stops[] = {SIGINT, SIGTERM};
 #define NSTOPS ((int)(sizeof stops / sizeof stops[0]))

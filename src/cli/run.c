@@ -10,7 +10,7 @@
 #include <sys/stat.h>
 
 #include "cli.h"
-#include "psim/psim.h"
+#include "../io/scene.h"
 #include "../engine/timer.h"
 
 typedef struct run_opts {
@@ -642,7 +642,7 @@ static void first_nonfinite(const run_opts *o, const psim_scene *sc, const psim_
     if (!looked)
         uncertain_step(err, checked);
     psim_destroy(s2);
-    psim_scene_free(&again);
+    psim_scene_clear(&again);
 }
 
 /* The state is finite (0), or err names the disk that is not, at the
@@ -852,7 +852,7 @@ int cli_run(int argc, char **argv)
     /* and the line numbers go too (8 bytes a particle), now that the
      * model has set itself up */
     if (!keep_scene)
-        psim_scene_free(&sc);
+        psim_scene_clear(&sc);
     rs.style = psim_get_output_style(s);
     rs.print = rs.style.every_step && sc.print;
     thermo_init(&rs.th, o.thermo, o.thermo_speed);
@@ -926,7 +926,7 @@ done:
     cli_pin_free(&o.pin);
     free(o.options);
     psim_destroy(s);
-    psim_scene_free(&sc);
+    psim_scene_clear(&sc);
     return rc;
 }
 

@@ -77,9 +77,16 @@ UNINSTRUMENTED static void refuse(long limit_kb, long need_kb)
 }
 
 #ifdef PSIM_USE_JEMALLOC
+#include <jemalloc/jemalloc.h>
+
 /* jemalloc's compiled-in options, read when it starts (after this runs,
  * before MALLOC_CONF, which still overrides them). */
 const char *malloc_conf;
+
+/* psim's malloc is jemalloc, and the library's allocations follow the
+ * program's malloc (src/engine/mem.c): a reference that keeps libjemalloc
+ * linked where the linker drops libraries no call needs (--as-needed). */
+__attribute__((used)) static void *(*const jemalloc_kept)(size_t, int) = mallocx;
 #endif
 
 UNINSTRUMENTED static void allocator_without_caches(void)

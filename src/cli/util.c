@@ -11,7 +11,7 @@
 #include <hwloc.h>
 
 #include "cli.h"
-#include "psim/psim.h"
+#include "../io/scene.h"
 #include "../engine/timer.h"
 
 int cli_long(const char *opt, const char *text, long lo, long hi, long *out)

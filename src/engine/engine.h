@@ -4,7 +4,7 @@
 #ifndef PSIM_ENGINE_ENGINE_H
 #define PSIM_ENGINE_ENGINE_H
 
-#include "psim/psim.h"
+#include "../io/scene.h"
 #include "grid.h"
 #include "sort.h"
 #include "store.h"

@@ -1,5 +1,6 @@
-/* Cache-line aligned allocation through jemalloc (or the C library when
- * built without it, e.g. for sanitizer builds). */
+/* Cache-line aligned allocation from the program's allocator: through
+ * jemalloc where it is the program's malloc, else through the C library
+ * (mem.c). */
 #ifndef PSIM_ENGINE_MEM_H
 #define PSIM_ENGINE_MEM_H
 #include <stddef.h>
@@ -40,6 +41,7 @@ void psim_free(void *p);
 /* Grow *p (aligned) to hold at least need elements of size elem; keeps the
  * contents.  *cap is in elements.  Returns 0, or -1 when out of memory. */
 int psim_reserve(void **p, size_t *cap, size_t need, size_t elem);
+/* "jemalloc" or "libc": the allocator psim_alloc uses in this process. */
 const char *psim_allocator_name(void);
 
 #endif

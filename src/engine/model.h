@@ -16,7 +16,7 @@
 #define PSIM_ENGINE_MODEL_H
 #include <stdio.h>
 
-#include "psim/psim.h"
+#include "../io/scene.h"
 #include "../io/fmt.h"
 
 struct psim_sim;

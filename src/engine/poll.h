@@ -14,7 +14,7 @@
 #define PSIM_ENGINE_POLL_H
 #include <stdint.h>
 
-#include "psim/psim.h"
+#include "../io/scene.h"
 
 struct psim_sim;
 

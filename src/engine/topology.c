@@ -9,6 +9,8 @@
 #include <hwloc.h>
 #include <omp.h>
 
+#include "../io/scene.h"
+
 #define MAX_KINDS 16
 
 struct psim_topo {

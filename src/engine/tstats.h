@@ -5,7 +5,7 @@
 
 #include <omp.h>
 
-#include "psim/psim.h"
+#include "../io/scene.h"
 
 /* Start of part k of n items split into `parts` near-equal parts: the one
  * static split of the move, the sort and the first touch of the store, so a

@@ -28,7 +28,7 @@
 #include <omp.h>
 
 #include "fmt.h"
-#include "psim/psim.h"
+#include "scene.h"
 
 #if defined(__SIZEOF_INT128__)
 #define FMT_FAST 1

@@ -10,7 +10,7 @@
 #include <omp.h>
 
 #include "fmt.h"
-#include "psim/psim.h"
+#include "scene.h"
 
 int psim_format_double(char *buf, double v, int digits)
 {
@@ -111,6 +111,8 @@ int psim_write_state(FILE *f, long step, long n, const double *x,
 
 int psim_scene_write(FILE *f, const psim_scene *sc)
 {
+    if (sc->n > 0 && !sc->x)   /* taken by psim_create_taking */
+        return -1;
     char L[PSIM_FORMAT_MAX], r[PSIM_FORMAT_MAX];
     psim_fmt_shortest(L, sc->L);
     psim_fmt_shortest(r, sc->r);

@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "psim/psim.h"
+#include "scene.h"
 
 static uint64_t splitmix64(uint64_t *s)
 {
@@ -134,10 +134,9 @@ static int place_lattice(const psim_gen_params *p, psim_scene *sc,
     return 0;
 }
 
-int psim_scene_generate(const psim_gen_params *p, psim_scene *sc,
-                        psim_error *err)
+/* The scene p asks for into *sc (all zero). */
+static int generate(const psim_gen_params *p, psim_scene *sc, psim_error *err)
 {
-    memset(sc, 0, sizeof *sc);
     if (p->n < 0 || !(p->L > 0) || !(p->r > 0) || p->steps < 0 ||
         !isfinite(p->vmin) || !isfinite(p->vmax) || p->vmin > p->vmax || !isfinite(p->L) ||
         !isfinite(p->r)) {
@@ -172,7 +171,18 @@ int psim_scene_generate(const psim_gen_params *p, psim_scene *sc,
         sc->vx[i] = uniform(&rng, p->vmin, p->vmax);
         sc->vy[i] = uniform(&rng, p->vmin, p->vmax);
     }
-    if (rc)
-        psim_scene_free(sc);
     return rc;
+}
+
+int psim_scene_generate(const psim_gen_params *p, psim_scene *sc,
+                        psim_error *err)
+{
+    psim_scene made = {0};
+    if (generate(p, &made, err)) {
+        psim_scene_clear(&made);
+        return -1;
+    }
+    psim_scene_clear(sc);
+    *sc = made;
+    return 0;
 }

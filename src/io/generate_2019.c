@@ -12,7 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "psim/psim.h"
+#include "scene.h"
 
 void psim_glibc_srand(psim_glibc_rand_state *g, unsigned seed)
 {
@@ -81,6 +81,10 @@ static int overlaps_any(const placed *p, const psim_scene *sc, double x, double 
 int psim_scene_generate_2019(psim_scene *sc, unsigned seed, psim_error *err)
 {
     const double L = sc->L, r = sc->r;
+    if (sc->n > 0 && !sc->x) {
+        psim_error_set(err, "the scene's disks were taken by an earlier psim_create_taking");
+        return -1;
+    }
     if (!(L >= 2 * r) || (double)sc->n * r * r > L * L) {
         psim_error_set(err, "%ld disks of radius %g cannot fit in a box of side %g "
                             "(need L >= 2r and N r^2 <= L^2)", sc->n, r, L);
@@ -135,7 +139,7 @@ void psim_scene_substeps(psim_scene *sc, long k)
 {
     if (k <= 1)
         return;
-    for (long i = 0; i < sc->n; i++) {
+    for (long i = 0; i < sc->n && sc->vx; i++) {
         sc->vx[i] /= (double)k;
         sc->vy[i] /= (double)k;
     }

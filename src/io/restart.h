@@ -2,7 +2,7 @@
  * scene reader keeps (restart.c). */
 #ifndef PSIM_IO_RESTART_H
 #define PSIM_IO_RESTART_H
-#include "psim/psim.h"
+#include "scene.h"
 #include "restart_schema.h"
 
 /* The first line "#psim restart 1 KEY=VALUE ..." of file name at line:

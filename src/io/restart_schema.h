@@ -4,7 +4,7 @@
 #define PSIM_IO_RESTART_SCHEMA_H
 #include <stddef.h>
 
-#include "psim/psim.h"
+#include "scene.h"
 
 /* What a model's restart files hold beyond a scene; the reader refuses
  * anything else.  The composing layer gives one per model

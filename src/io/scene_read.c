@@ -30,7 +30,7 @@
 #include "fmt.h"
 #include "restart.h"
 #include "scene_read.h"
-#include "psim/psim.h"
+#include "scene.h"
 
 /* The longest line a scene may have: five numbers of 17 digits with their
  * signs and exponents fit many times over.  A longer "line" is binary data
@@ -665,7 +665,7 @@ done:
     free(rd.buf);
     free(rd.chunk);
     if (rc)
-        psim_scene_free(sc);
+        psim_scene_clear(sc);
     return rc;
 }
 
@@ -693,7 +693,7 @@ int psim_scene_alloc(psim_scene *sc, long n, psim_error *err)
     sc->vx = calloc(1, b);
     sc->vy = calloc(1, b);
     if (!sc->x || !sc->y || !sc->vx || !sc->vy) {
-        psim_scene_free(sc);
+        psim_scene_clear(sc);
         psim_error_set(err, "out of memory for %ld particles", n);
         return -1;
     }
@@ -718,7 +718,7 @@ void psim_scene_where_header(const psim_scene *sc, int k, char *buf, size_t size
         snprintf(buf, size, "%s:%ld: ", sc->source, sc->header_line[k]);
 }
 
-void psim_scene_free(psim_scene *sc)
+void psim_scene_clear(psim_scene *sc)
 {
     free(sc->x);
     free(sc->y);

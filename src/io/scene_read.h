@@ -5,7 +5,7 @@
 #define PSIM_IO_SCENE_READ_H
 #include <stdio.h>
 
-#include "psim/psim.h"
+#include "scene.h"
 #include "restart_schema.h"
 
 int psim_io_scene_read(const char *path, psim_restart_schema_fn schema, psim_scene *sc,

@@ -2,11 +2,13 @@
 #include <math.h>
 #include <stdio.h>
 
-#include "psim/psim.h"
+#include "scene.h"
 #include "../engine/engine.h"
 #include "../engine/mem.h"
 
 const char *psim_allocator(void) { return psim_allocator_name(); }
+
+const char *psim_version(void) { return PSIM_VERSION; }
 
 /* Length of the well-formed UTF-8 sequence at s (1-4), or 0 when it is
  * not one (a stray or missing continuation byte, an overlong form, a

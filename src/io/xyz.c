@@ -9,7 +9,7 @@
 #include <stdio.h>
 
 #include "fmt.h"
-#include "psim/psim.h"
+#include "scene.h"
 
 typedef struct xyz_ctx {
     const psim_cols *c;

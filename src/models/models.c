@@ -72,11 +72,33 @@ int psim_generate_scene(const char *name, long n, uint64_t seed, psim_scene *sc,
         err->usage = 1;   /* -n with this model: the command line's fault */
         return -1;
     }
-    return m->generate(sc, n, seed, err);
+    if (n < 0 || n > PSIM_MAX_PARTICLES) {
+        psim_error_set(err, "particle count must be between 0 and %ld, got %ld",
+                       PSIM_MAX_PARTICLES, n);
+        err->usage = 1;
+        return -1;
+    }
+    psim_scene made = {0};
+    if (m->generate(&made, n, seed, err)) {
+        psim_scene_clear(&made);
+        return -1;
+    }
+    psim_scene_clear(sc);
+    *sc = made;
+    return 0;
 }
 
 static psim_sim *create(psim_scene *sc, const psim_config *cfg, int take, psim_error *err)
 {
+    psim_config dflt;
+    if (!cfg) {
+        psim_config_default(&dflt);
+        cfg = &dflt;
+    }
+    if (sc->n > 0 && !sc->x) {
+        psim_error_set(err, "the scene's disks were taken by an earlier psim_create_taking");
+        return NULL;
+    }
     const char *name = cfg->model ? cfg->model : psim_default_model(sc);
     const psim_model *m = psim_model_find(name);
     if (!m) {

@@ -29,3 +29,17 @@ int psim_scene_read_stream(FILE *f, const char *name, psim_scene *sc, psim_error
 {
     return psim_io_scene_read_stream(f, name, schema_of, sc, err);
 }
+
+psim_scene *psim_scene_load(const char *path, psim_error *err)
+{
+    psim_scene *sc = psim_scene_new();
+    if (!sc) {
+        psim_error_set(err, "%s: out of memory", path);
+        return NULL;
+    }
+    if (psim_scene_read(path, sc, err)) {
+        psim_scene_free(sc);
+        return NULL;
+    }
+    return sc;
+}

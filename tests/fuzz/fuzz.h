@@ -4,7 +4,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "psim/psim.h"
+#include "io/scene.h"
 
 /* Scenes larger than this are only read, not run (a target must stay
  * fast: thousands of inputs a second). */

@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include "fuzz.h"
-#include "psim/psim.h"
+#include "io/scene.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
@@ -18,13 +18,13 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         return 0;
     memcpy(options, data + 1, size - 1);
     options[size - 1] = '\0';
-    psim_scene sc;
+    psim_scene sc = {0};
     psim_error err = {{0}, 0};
     psim_gen_params p = {.n = 40, .L = 60, .r = 1, .steps = 3, .vmin = -1, .vmax = 1,
                          .seed = 1, .place = PSIM_PLACE_NONOVERLAP};
     if (psim_scene_generate(&p, &sc, &err) == 0) {
         fuzz_run(&sc, model, options, FUZZ_STEPS);
-        psim_scene_free(&sc);
+        psim_scene_clear(&sc);
     }
     free(options);
     return 0;

@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include "fuzz.h"
-#include "psim/psim.h"
+#include "io/scene.h"
 
 /* The first integer of the input after blank space and an optional
  * restart line (saturating; 0 when there is none). */
@@ -34,7 +34,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     FILE *f = fmemopen((void *)data, size, "r");
     if (!f)
         return 0;
-    psim_scene sc;
+    psim_scene sc = {0};
     psim_error err = {{0}, 0};
     int rc = psim_scene_read_stream(f, "fuzz.in", &sc, &err);
     fclose(f);
@@ -43,6 +43,6 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (sc.n <= FUZZ_MAX_DISKS)
         for (int m = 0; m < psim_model_count(); m++)
             fuzz_run(&sc, psim_model_name(m), NULL, FUZZ_STEPS);
-    psim_scene_free(&sc);
+    psim_scene_clear(&sc);
     return 0;
 }

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# The installed package (docs/install.md), run by ctest as install.WHAT:
+# The installed package (docs/install.md, docs/api.md), run by ctest as
+# install.WHAT:
 #   tree                cmake --install the build tree into a staging prefix;
 #                       every file is there, none of the text files names the
 #                       staging prefix or the build or source tree; then the
@@ -7,10 +8,27 @@
 #                       the others: the package must work where it was moved)
 #   version             the installed psim runs: --version, gen, a short run;
 #                       psim-plot and psim-animate answer under those names
+#   library             libpsim.so: its SONAME and links; it needs no
+#                       jemalloc; it exports exactly the functions the
+#                       installed headers declare (PSIM_API), all psim_*
 #   cmake_consumer      tests/install/consumer built with find_package(psim)
-#                       and psim::psim, run: its final state is the installed
-#                       psim's; a version the package does not satisfy fails
-#   pkgconfig_consumer  the same program built with pkg-config --static psim
+#                       and psim::psim, then with the other of
+#                       psim::psim_shared and psim::psim_static, and with
+#                       pkg_check_modules(IMPORTED_TARGET psim); each run:
+#                       its final state is the installed psim's; a version
+#                       the package does not satisfy fails
+#   pkgconfig_consumer  the same program built with pkg-config psim (the
+#                       shared library), with --static and libpsim.a, and
+#                       linked with jemalloc too, whose malloc the library
+#                       then uses
+#   example_cmake       examples/c built with CMake (psim::psim_shared) and
+#   example_pkgconfig   with cc $(pkg-config --cflags --libs psim): run on a
+#                       scene, its output is psim --final's, byte for byte
+#   python              examples/python/run_scene.py loads the installed
+#                       libpsim.so.0 with ctypes: its states (read from a
+#                       file, made from numpy arrays) are psim --final's, and
+#                       Python's process keeps its own malloc; a wrong
+#                       reference makes it fail
 #   man                 share/man/man1/psim.1 names every long option of
 #                       every --help, every subcommand and model, every
 #                       variable psim reads from the environment, and the
@@ -25,18 +43,20 @@
 # ctest gives the build's settings in PSIM_INSTALL_* (tests/CMakeLists.txt).
 # usage: install.sh WHAT
 set -euo pipefail
-what=${1:?usage: install.sh tree|version|cmake_consumer|pkgconfig_consumer|man|completion}
+what=${1:?usage: install.sh tree|version|library|cmake_consumer|pkgconfig_consumer|example_cmake|example_pkgconfig|python|man|completion}
 here=$(cd "$(dirname "$0")" && pwd)
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 
-for v in BUILD SOURCE PREFIX VERSION DESCRIPTION CC CMAKE GENERATOR MAKE PKG_CONFIG PYTHON \
-         ALLOCATOR BINDIR LIBDIR INCLUDEDIR MANDIR DATADIR DOCDIR; do
+for v in BUILD SOURCE PREFIX VERSION SOVERSION SHARED DESCRIPTION CC CMAKE GENERATOR MAKE \
+         PKG_CONFIG PYTHON NM READELF ALLOCATOR BINDIR LIBDIR INCLUDEDIR MANDIR DATADIR DOCDIR; do
     var=PSIM_INSTALL_$v
     [[ -n ${!var:-} ]] || { echo "FAIL: $var is not set (ctest sets it: tests/CMakeLists.txt)" >&2; exit 1; }
 done
 prefix=$PSIM_INSTALL_PREFIX
 man=$prefix/$PSIM_INSTALL_MANDIR/man1/psim.1
 completion=$prefix/$PSIM_INSTALL_DATADIR/bash-completion/completions/psim
+libdir=$prefix/$PSIM_INSTALL_LIBDIR
+soname=libpsim.so.$PSIM_INSTALL_SOVERSION
 
 if [[ $what == tree ]]; then
     stage=$prefix.stage
@@ -48,6 +68,7 @@ if [[ $what == tree ]]; then
     fi
     missing=()
     for f in "$PSIM_INSTALL_BINDIR/psim" "$PSIM_INSTALL_LIBDIR/libpsim.a" \
+             "$PSIM_INSTALL_LIBDIR/libpsim.so.$PSIM_INSTALL_VERSION" \
              "$PSIM_INSTALL_LIBDIR/cmake/psim/psimConfig.cmake" \
              "$PSIM_INSTALL_LIBDIR/cmake/psim/psimConfigVersion.cmake" \
              "$PSIM_INSTALL_LIBDIR/cmake/psim/psimTargets.cmake" \
@@ -80,6 +101,13 @@ if [[ $what == tree ]]; then
         exit 1
     fi
     [[ -x $stage/$PSIM_INSTALL_BINDIR/psim ]] || { echo "FAIL: the installed psim is not executable" >&2; exit 1; }
+    # the shared library's links: SONAME -> the file, libpsim.so -> SONAME
+    for link in "libpsim.so.$PSIM_INSTALL_SOVERSION:libpsim.so.$PSIM_INSTALL_VERSION" \
+                "libpsim.so:libpsim.so.$PSIM_INSTALL_SOVERSION"; do
+        f=$stage/$PSIM_INSTALL_LIBDIR/${link%%:*}
+        [[ -L $f && $(readlink "$f") == "${link#*:}" ]] ||
+            { echo "FAIL: $PSIM_INSTALL_LIBDIR/${link%%:*} is not a link to ${link#*:}" >&2; exit 1; }
+    done
     extra=$(cd "$stage/$PSIM_INSTALL_INCLUDEDIR" && find . -type f ! -name '*.h' | head -5)
     [[ -z $extra ]] || { echo "FAIL: installed under include/ besides headers: $extra" >&2; exit 1; }
     # The text files hold no absolute path of the build: the package can move.
@@ -113,13 +141,41 @@ scene_and_reference()
     [[ -s $tmp/ref.txt ]] || fail "the installed psim wrote no --final file"
 }
 
-# run_consumer BIN HOW: the consumer's final state must be the installed psim's.
+# run_consumer BIN HOW [ALLOCATOR]: the consumer's final state must be the
+# installed psim's, and the library's allocator ALLOCATOR (default libc:
+# a program that does not link jemalloc keeps the C library's malloc).
 run_consumer()
 {
-    local bin=$1 how=$2
+    local bin=$1 how=$2 allocator=${3:-libc}
     [[ -x $bin ]] || fail "$how: no consumer program was built"
-    run_ok "$bin" "$tmp/scene.in" "$tmp/$how.txt" "$version" "$PSIM_INSTALL_ALLOCATOR"
+    run_ok "$bin" "$tmp/scene.in" "$tmp/$how.txt" "$version" "$allocator"
     same_file "$tmp/$how.txt" "$tmp/ref.txt" "$how: the consumer's final state and psim --final's"
+}
+
+# needs BIN yes|no HOW: whether the program BIN loads libpsim.so (its
+# DT_NEEDED names the SONAME) is as HOW says it was linked.
+needs()
+{
+    local dyn
+    dyn=$("$PSIM_INSTALL_READELF" -d "$1") || fail "readelf -d $1 failed"
+    if [[ $2 == yes ]]; then
+        grep -qF "[$soname]" <<<"$dyn" || fail "$3: the program does not load $soname"
+    else
+        ! grep -qF "[libpsim.so" <<<"$dyn" || fail "$3: the program loads libpsim.so, not libpsim.a"
+    fi
+}
+
+# A python3 with numpy (Debian's, where the one on PATH lacks it).
+numpy_python()
+{
+    local py
+    for py in python3 /usr/bin/python3; do
+        if "$py" -c 'import numpy' 2>/dev/null; then
+            echo "$py"
+            return 0
+        fi
+    done
+    fail "no python3 with numpy (run scripts/install-test-deps.sh)"
 }
 
 # The long options a help text lists: "  -m, --model NAME", "      --steps S",
@@ -165,24 +221,79 @@ version)
     echo "install: $(head -1 <<<"$out") runs"
     ;;
 
+library)
+    so=$libdir/libpsim.so.$version
+    dyn=$("$PSIM_INSTALL_READELF" -d "$so") || fail "readelf -d $so failed"
+    got=$(sed -n 's/.*(SONAME).*\[\(.*\)\]$/\1/p' <<<"$dyn")
+    [[ $got == "$soname" ]] || fail "$so's SONAME is '$got', not $soname"
+    # the allocator is the program's: the library links none
+    if grep -i 'NEEDED.*jemalloc' <<<"$dyn"; then
+        fail "$so needs jemalloc: a program loading it would get jemalloc's malloc"
+    fi
+    # its exported symbols: exactly the functions the installed headers
+    # declare with PSIM_API, each named psim_*
+    "$PSIM_INSTALL_NM" -D --defined-only "$so" >"$tmp/nm.txt" || fail "nm -D $so failed"
+    awk '{print $NF}' "$tmp/nm.txt" | sort -u >"$tmp/exported.txt"
+    # (the declarations without comments and preprocessor lines: the name
+    # before the first parenthesis of each PSIM_API ...;)
+    "$PSIM_INSTALL_PYTHON" - "$prefix/$PSIM_INSTALL_INCLUDEDIR"/psim/*.h >"$tmp/names.txt" <<'PY' ||
+import re, sys
+names = set()
+for path in sys.argv[1:]:
+    text = re.sub(r"/\*.*?\*/", " ", open(path).read(), flags=re.S)
+    text = "\n".join(l for l in text.split("\n") if not l.lstrip().startswith("#"))
+    names.update(re.findall(r"\bPSIM_API\b[^;(]*?\b([A-Za-z_]\w*)\s*\(", text))
+print("\n".join(sorted(names)))
+PY
+        fail "cannot list the functions of the installed headers"
+    sort -u "$tmp/names.txt" >"$tmp/declared.txt"
+    (($(wc -l <"$tmp/declared.txt") > 50)) ||
+        fail "the headers declare only $(wc -l <"$tmp/declared.txt") functions with PSIM_API"
+    others=$(grep -v '^psim_' "$tmp/exported.txt" || true)
+    [[ -z $others ]] || fail "$so exports symbols outside the API: $(paste -sd' ' <<<"$others")"
+    extra=$(comm -23 "$tmp/exported.txt" "$tmp/declared.txt")
+    [[ -z $extra ]] || fail "$so exports functions no installed header declares: $(paste -sd' ' <<<"$extra")"
+    absent=$(comm -13 "$tmp/exported.txt" "$tmp/declared.txt")
+    [[ -z $absent ]] || fail "$so does not export functions the headers declare: $(paste -sd' ' <<<"$absent")"
+    echo "install: $soname exports the $(wc -l <"$tmp/exported.txt") functions psim/*.h declares, nothing else; needs $(grep -c NEEDED <<<"$dyn") libraries, no jemalloc"
+    ;;
+
 cmake_consumer)
     scene_and_reference
     args=(-G "$PSIM_INSTALL_GENERATOR" -DCMAKE_MAKE_PROGRAM="$PSIM_INSTALL_MAKE"
           -DCMAKE_C_COMPILER="$PSIM_INSTALL_CC" -DCMAKE_PREFIX_PATH="$prefix"
           -DCMAKE_FIND_PACKAGE_NO_PACKAGE_REGISTRY=ON)
-    if ! "$PSIM_INSTALL_CMAKE" -S "$here/consumer" -B "$tmp/b" "${args[@]}" \
-            -DPSIM_WANT_VERSION="$version" >"$tmp/configure.log" 2>&1; then
-        sed 's/^/  | /' "$tmp/configure.log" >&2
-        fail "the consumer's find_package(psim $version CONFIG REQUIRED) failed"
-    fi
+    # consumer_build DIR WHAT ARGS...: configure and build the consumer
+    consumer_build()
+    {
+        local dir=$1 what=$2
+        shift 2
+        if ! "$PSIM_INSTALL_CMAKE" -S "$here/consumer" -B "$dir" "${args[@]}" "$@" \
+                >"$tmp/configure.log" 2>&1; then
+            sed 's/^/  | /' "$tmp/configure.log" >&2
+            fail "the consumer's configure with $what failed"
+        fi
+        if ! "$PSIM_INSTALL_CMAKE" --build "$dir" >"$tmp/build.log" 2>&1; then
+            sed 's/^/  | /' "$tmp/build.log" >&2
+            fail "the consumer linking $what did not build"
+        fi
+    }
+    consumer_build "$tmp/b" "find_package(psim $version) and psim::psim" -DPSIM_WANT_VERSION="$version"
     want=$prefix/$PSIM_INSTALL_LIBDIR/cmake/psim
     [[ $(cat "$tmp/b/psim_dir.txt") -ef $want ]] ||
         fail "find_package(psim) found $(cat "$tmp/b/psim_dir.txt"), not $want"
-    if ! "$PSIM_INSTALL_CMAKE" --build "$tmp/b" >"$tmp/build.log" 2>&1; then
-        sed 's/^/  | /' "$tmp/build.log" >&2
-        fail "the consumer linking psim::psim did not build"
-    fi
+    # psim::psim is the library BUILD_SHARED_LIBS chose; then the other one
+    if [[ $PSIM_INSTALL_SHARED == ON ]]; then default=yes other=psim::psim_static; else default=no other=psim::psim_shared; fi
+    needs "$tmp/b/consumer" "$default" "psim::psim"
     run_consumer "$tmp/b/consumer" cmake
+    consumer_build "$tmp/b_other" "$other" -DPSIM_LINK="$other"
+    needs "$tmp/b_other/consumer" "$([[ $other == psim::psim_shared ]] && echo yes || echo no)" "$other"
+    run_consumer "$tmp/b_other/consumer" cmake_other
+    # pkg-config's psim.pc from CMake: libpsim.so, its path found by CMake
+    consumer_build "$tmp/b_pc" "pkg_check_modules(IMPORTED_TARGET psim)" -DPSIM_FIND=pkgconfig \
+        -DCMAKE_PREFIX_PATH="$prefix"
+    needs "$tmp/b_pc/consumer" yes "pkg_check_modules(IMPORTED_TARGET psim)"
+    run_consumer "$tmp/b_pc/consumer" cmake_pkgconfig
     # a version this one does not satisfy: 0.x, a later minor version
     IFS=. read -r major minor _ <<<"$version"
     newer=$major.$((minor + 1))
@@ -192,12 +303,12 @@ cmake_consumer)
     fi
     grep -q "psimConfigVersion.cmake\|version: $version" "$tmp/configure2.log" ||
         fail "find_package(psim $newer) failed, but not for the version: $(cat "$tmp/configure2.log")"
-    echo "install: find_package(psim $version) and psim::psim: the consumer's final state is psim's"
+    echo "install: find_package(psim $version) with psim::psim and $other, and pkg_check_modules(psim): each consumer's final state is psim's"
     ;;
 
 pkgconfig_consumer)
     scene_and_reference
-    export PKG_CONFIG_PATH=$prefix/$PSIM_INSTALL_LIBDIR/pkgconfig
+    export PKG_CONFIG_PATH=$libdir/pkgconfig
     pc=$PSIM_INSTALL_PKG_CONFIG
     command -v "$pc" >/dev/null || fail "no pkg-config ($pc; a build dependency, scripts/install-deps.sh)"
     run_ok "$pc" --exists psim
@@ -205,16 +316,107 @@ pkgconfig_consumer)
     [[ $got == "$version" ]] || fail "pkg-config --modversion psim is '$got', not $version"
     got=$("$pc" --variable=prefix psim)
     [[ $got -ef $prefix ]] || fail "psim.pc's prefix is $got, not $prefix"
-    flags=$("$pc" --cflags --libs --static psim) || fail "pkg-config --cflags --libs --static psim failed"
-    [[ " $flags " == *" -lpsim "* && " $flags " == *" -lm "* ]] || fail "pkg-config flags lack -lpsim or -lm: $flags"
+    # cc_consumer OUT HOW FLAGS...: build the consumer, strict C11
+    cc_consumer()
+    {
+        local out=$1 how=$2
+        shift 2
+        if ! "$PSIM_INSTALL_CC" -std=c11 -Wall -Wextra -Wpedantic -Werror "$here/consumer/consumer.c" \
+                "$@" -o "$out" >"$tmp/cc.log" 2>&1; then
+            sed 's/^/  | /' "$tmp/cc.log" >&2
+            fail "cc consumer.c $how failed; flags: $*"
+        fi
+    }
+    # as a user types it: the shared library, found at run time through
+    # LD_LIBRARY_PATH (the prefix is not the system's)
+    flags=$("$pc" --cflags --libs psim) || fail "pkg-config --cflags --libs psim failed"
+    [[ " $flags " == *" -lpsim "* ]] || fail "pkg-config --libs psim lacks -lpsim: $flags"
     # shellcheck disable=SC2086 # the flags are words
-    if ! "$PSIM_INSTALL_CC" -std=c11 -Wall -Wextra -Wpedantic -Werror "$here/consumer/consumer.c" \
-            $flags -o "$tmp/consumer" >"$tmp/cc.log" 2>&1; then
-        sed 's/^/  | /' "$tmp/cc.log" >&2
-        fail "cc consumer.c \$(pkg-config --cflags --libs --static psim) failed; flags: $flags"
+    cc_consumer "$tmp/consumer" "\$(pkg-config --cflags --libs psim)" $flags
+    needs "$tmp/consumer" yes "pkg-config --libs psim"
+    LD_LIBRARY_PATH=$libdir run_consumer "$tmp/consumer" pkgconfig
+    # the static library: its own dependencies come from --static
+    sflags=$("$pc" --cflags --libs --static psim) || fail "pkg-config --cflags --libs --static psim failed"
+    [[ " $sflags " == *" -lm "* ]] || fail "pkg-config --libs --static psim lacks -lm: $sflags"
+    sflags=" $sflags "
+    [[ $sflags == *" -lpsim "* ]] || fail "pkg-config --libs --static psim lacks -lpsim: $sflags"
+    # shellcheck disable=SC2086
+    cc_consumer "$tmp/consumer_static" "with libpsim.a" ${sflags/ -lpsim / -l:libpsim.a }
+    needs "$tmp/consumer_static" no "pkg-config --static, -l:libpsim.a"
+    run_consumer "$tmp/consumer_static" pkgconfig_static
+    # a program whose malloc is jemalloc: the library allocates through it
+    if [[ $PSIM_INSTALL_ALLOCATOR == jemalloc ]]; then
+        # shellcheck disable=SC2086
+        cc_consumer "$tmp/consumer_jemalloc" "with jemalloc" $flags -Wl,--no-as-needed -ljemalloc
+        LD_LIBRARY_PATH=$libdir run_consumer "$tmp/consumer_jemalloc" pkgconfig_jemalloc jemalloc
     fi
-    run_consumer "$tmp/consumer" pkgconfig
-    echo "install: cc consumer.c $flags: the consumer's final state is psim's"
+    echo "install: cc consumer.c $flags (and --static with libpsim.a): the consumer's final state is psim's"
+    ;;
+
+example_cmake)
+    scene_and_reference
+    if ! "$PSIM_INSTALL_CMAKE" -S "$PSIM_INSTALL_SOURCE/examples/c" -B "$tmp/b" \
+            -G "$PSIM_INSTALL_GENERATOR" -DCMAKE_MAKE_PROGRAM="$PSIM_INSTALL_MAKE" \
+            -DCMAKE_C_COMPILER="$PSIM_INSTALL_CC" -DCMAKE_PREFIX_PATH="$prefix" \
+            -DCMAKE_FIND_PACKAGE_NO_PACKAGE_REGISTRY=ON >"$tmp/configure.log" 2>&1 ||
+        ! "$PSIM_INSTALL_CMAKE" --build "$tmp/b" >"$tmp/build.log" 2>&1; then
+        sed 's/^/  | /' "$tmp/configure.log" "$tmp/build.log" 2>/dev/null >&2
+        fail "examples/c did not build with CMake against $prefix"
+    fi
+    needs "$tmp/b/run_scene" yes "examples/c (psim::psim_shared)"
+    run_ok "$tmp/b/run_scene" "$tmp/scene.in" 2 >"$tmp/out.txt"
+    same_file "$tmp/out.txt" "$tmp/ref.txt" "examples/c's run_scene (CMake) and psim --final"
+    grep -q "run_scene: psim $version, discrete model, 600 disks, 5 steps on 2 threads" "$tmp/.run_ok.err" ||
+        fail "run_scene's summary is not the run's: $(head -1 "$tmp/.run_ok.err")"
+    echo "install: examples/c built with CMake: run_scene's state is psim --final's"
+    ;;
+
+example_pkgconfig)
+    scene_and_reference
+    export PKG_CONFIG_PATH=$libdir/pkgconfig
+    # as docs/api.md gives it
+    # shellcheck disable=SC2046 # the flags are words
+    if ! (cd "$tmp" && "$PSIM_INSTALL_CC" "$PSIM_INSTALL_SOURCE/examples/c/run_scene.c" \
+            $("$PSIM_INSTALL_PKG_CONFIG" --cflags --libs psim) -o run_scene) >"$tmp/cc.log" 2>&1; then
+        sed 's/^/  | /' "$tmp/cc.log" >&2
+        fail "cc run_scene.c \$(pkg-config --cflags --libs psim) failed"
+    fi
+    needs "$tmp/run_scene" yes "examples/c (pkg-config)"
+    LD_LIBRARY_PATH=$libdir run_ok "$tmp/run_scene" "$tmp/scene.in" >"$tmp/out.txt"
+    same_file "$tmp/out.txt" "$tmp/ref.txt" "examples/c's run_scene (pkg-config) and psim --final"
+    # a scene it cannot read: one line naming the file, exit 1
+    printf '3\n10\n1\n2\n0 1 1 0 0\n' >"$tmp/short.in"
+    LD_LIBRARY_PATH=$libdir expect_fail --rc 1 "short.in:6: unexpected end of file" \
+        "$tmp/run_scene" "$tmp/short.in"
+    # the program docs/api.md shows is this one
+    awk '/^## A complete program/ { f = 1 } f && /^```c$/ { p = 1; next } p && /^```$/ { exit } p' \
+        "$PSIM_INSTALL_SOURCE/docs/api.md" >"$tmp/doc.c"
+    same_file "$tmp/doc.c" "$PSIM_INSTALL_SOURCE/examples/c/run_scene.c" \
+        "the program in docs/api.md and examples/c/run_scene.c"
+    echo "install: examples/c built with pkg-config: run_scene's state is psim --final's"
+    ;;
+
+python)
+    scene_and_reference
+    py=$(numpy_python)
+    lib=$libdir/$soname
+    example=$PSIM_INSTALL_SOURCE/examples/python/run_scene.py
+    run_ok "$py" "$example" --lib "$lib" --threads 2 --final "$tmp/ref.txt" "$tmp/scene.in" >"$tmp/out.txt"
+    grep -q "discrete model, 600 disks, 5 steps, allocator libc;.* the state is psim's" "$tmp/out.txt" ||
+        fail "run_scene.py did not say what it ran: $(cat "$tmp/out.txt")"
+    # Python keeps its own malloc: loading the library brings no jemalloc
+    maps=$("$py" -c 'import ctypes, sys; ctypes.CDLL(sys.argv[1]); print(open("/proc/self/maps").read())' "$lib") ||
+        fail "python3 could not load $lib"
+    grep -qF "$(basename "$(readlink -f "$lib")")" <<<"$maps" || fail "python3's maps do not show $lib loaded"
+    ! grep -q jemalloc <<<"$maps" || fail "loading $lib brought jemalloc into python3"
+    # a reference one disk off: the check must see it
+    awk 'NR == 7 { $3 = sprintf("%.17g", $3 + 1) } { print }' "$tmp/ref.txt" >"$tmp/wrong.txt"
+    rc=0
+    "$py" "$example" --lib "$lib" --final "$tmp/wrong.txt" "$tmp/scene.in" >/dev/null 2>"$tmp/err.txt" || rc=$?
+    if ((rc != 1)) || ! grep -q "disk 6: x is" "$tmp/err.txt"; then
+        fail "run_scene.py against a wrong reference: exit $rc, $(cat "$tmp/err.txt")"
+    fi
+    echo "install: ctypes and numpy ($py): $(cat "$tmp/out.txt")"
     ;;
 
 man)

@@ -9,7 +9,7 @@
 
 #include "check.h"
 #include "models/discrete/collide.h"
-#include "psim/psim.h"
+#include "io/scene.h"
 
 static void brute_force_quiet(const psim_sim *s, const psim_scene *sc)
 {
@@ -63,7 +63,7 @@ static void test_taking(void)
     psim_gen_params p = {.n = 600, .L = 120, .r = 1, .steps = 0, .vmin = -0.5, .vmax = 0.5,
                          .seed = 9, .place = PSIM_PLACE_LATTICE};
     for (int k = 0; k < 4; k++) {
-        psim_scene a, b;
+        psim_scene a = {0}, b = {0};
         psim_error err = {{0}, 0};
         CHECK(psim_scene_generate(&p, &a, &err) == 0 && psim_scene_generate(&p, &b, &err) == 0);
         psim_config cfg;
@@ -86,8 +86,8 @@ static void test_taking(void)
         free(u);
         psim_destroy(s);
         psim_destroy(t);
-        psim_scene_free(&a);
-        psim_scene_free(&b);
+        psim_scene_clear(&a);
+        psim_scene_clear(&b);
     }
 }
 
@@ -102,7 +102,7 @@ static void test_restart_columns(void)
     static const double bad[] = {1e23, 2.5, -1, NAN, INFINITY, 9007199254740994.0};
     for (size_t k = 0; k <= sizeof bad / sizeof bad[0]; k++) {
         FILE *f = fmemopen((void *)text, sizeof text - 1, "r");
-        psim_scene sc;
+        psim_scene sc = {0};
         psim_error err = {{0}, 0};
         CHECK(psim_scene_read_stream(f, "r.in", &sc, &err) == 0);
         fclose(f);
@@ -118,7 +118,7 @@ static void test_restart_columns(void)
                           strstr(err.msg, "is not a whole number in [0, 9007199254740992]"),
                       "wall_collisions %g: %s", bad[k], s ? "accepted" : err.msg);
         psim_destroy(s);
-        psim_scene_free(&sc);
+        psim_scene_clear(&sc);
     }
 }
 
@@ -131,7 +131,7 @@ int main(void)
     psim_gen_params p = {.n = 800, .r = 1, .steps = 0, .vmin = 0.2, .vmax = 0.6,
                          .seed = 3, .place = PSIM_PLACE_UNIFORM};
     p.L = sqrt(p.n * M_PI / 0.85);
-    psim_scene sc;
+    psim_scene sc = {0};
     psim_error err = {{0}, 0};
     CHECK(psim_scene_generate(&p, &sc, &err) == 0);
     double *ref = run(&sc, 1, 2, 12);
@@ -143,6 +143,6 @@ int main(void)
     /* another tiling is another valid resolution order, equally quiet */
     free(run(&sc, 2, 8, 12));
     free(ref);
-    psim_scene_free(&sc);
+    psim_scene_clear(&sc);
     return check_done();
 }

@@ -8,7 +8,7 @@
 
 #include "check.h"
 #include "io/fmt.h"
-#include "psim/psim.h"
+#include "io/scene.h"
 
 static int read_text(const char *text, psim_scene *sc, psim_error *err)
 {
@@ -23,7 +23,7 @@ static void same_both_ways(const char *text, size_t len, const char *what);
 static void expect_error(const char *text, const char *where, const char *what)
 {
     same_both_ways(text, strlen(text), text);
-    psim_scene sc;
+    psim_scene sc = {0};
     psim_error err = {{0}, 0};
     CHECK_MSG(read_text(text, &sc, &err) != 0, "accepted: %s", text);
     CHECK_MSG(strstr(err.msg, where) != NULL, "'%s' lacks '%s'", err.msg, where);
@@ -33,17 +33,17 @@ static void expect_error(const char *text, const char *where, const char *what)
 
 static void test_read_ok(void)
 {
-    psim_scene sc;
+    psim_scene sc = {0};
     psim_error err = {{0}, 0};
     CHECK(read_text("2\n10\n1\n5\n1 2 3 -1 0.5\n0 4.5 6 0 -0\n\n", &sc, &err) == 0);
     CHECK(sc.n == 2 && sc.L == 10 && sc.r == 1 && sc.steps == 5);
     /* stored by id, whatever the line order */
     CHECK(sc.x[1] == 2 && sc.y[1] == 3 && sc.vx[1] == -1 && sc.vy[1] == 0.5);
     CHECK(sc.x[0] == 4.5 && sc.y[0] == 6);
-    psim_scene_free(&sc);
+    psim_scene_clear(&sc);
     CHECK(read_text("0\n10\n1\n5\n", &sc, &err) == 0);
     CHECK(sc.n == 0);
-    psim_scene_free(&sc);
+    psim_scene_clear(&sc);
 }
 
 static void test_read_errors(void)
@@ -73,7 +73,7 @@ static void test_generate_roundtrip(void)
     for (int k = 0; k < 3; k++) {
         psim_gen_params p = {.n = 500, .L = 100, .r = 1.5, .steps = 7, .vmin = 2,
                              .vmax = 5, .seed = 42, .place = places[k]};
-        psim_scene a, b;
+        psim_scene a = {0}, b = {0};
         psim_error err = {{0}, 0};
         CHECK(psim_scene_generate(&p, &a, &err) == 0);
         for (long i = 0; i < a.n; i++) {
@@ -97,13 +97,13 @@ static void test_generate_roundtrip(void)
         CHECK(memcmp(a.x, b.x, (size_t)a.n * sizeof(double)) == 0);
         CHECK(memcmp(a.vy, b.vy, (size_t)a.n * sizeof(double)) == 0);
         free(text);
-        psim_scene_free(&a);
-        psim_scene_free(&b);
+        psim_scene_clear(&a);
+        psim_scene_clear(&b);
     }
     /* too dense for random placement: a clear error, not a hang */
     psim_gen_params p = {.n = 2000, .L = 100, .r = 1.5, .steps = 1, .vmin = 0,
                          .vmax = 1, .seed = 1, .place = PSIM_PLACE_NONOVERLAP};
-    psim_scene a;
+    psim_scene a = {0};
     psim_error err = {{0}, 0};
     CHECK(psim_scene_generate(&p, &a, &err) != 0);
     CHECK(strstr(err.msg, "cannot place") != NULL);
@@ -139,7 +139,7 @@ static long both_ways_runs;
  * line-by-line reader (PSIM_SLOW_IO=1). */
 static void same_both_ways(const char *text, size_t len, const char *what)
 {
-    psim_scene ref;
+    psim_scene ref = {0};
     psim_error eref = {{0}, 0};
     setenv("PSIM_SLOW_IO", "1", 1);
     int rref = read_mem(text, len, &ref, &eref);
@@ -149,7 +149,7 @@ static void same_both_ways(const char *text, size_t len, const char *what)
         for (int t = 1; t <= 3; t++) {
             omp_set_num_threads(t);
             psim_io_set_blocks(blocks[b][0], blocks[b][1]);
-            psim_scene sc;
+            psim_scene sc = {0};
             psim_error e = {{0}, 0};
             int r = read_mem(text, len, &sc, &e);
             both_ways_runs++;
@@ -158,18 +158,18 @@ static void same_both_ways(const char *text, size_t len, const char *what)
             if (r == 0 && rref == 0) {
                 CHECK_MSG(same_scene(&sc, &ref), "%s: another scene (block %zu, %d threads)",
                           what, blocks[b][0], t);
-                psim_scene_free(&sc);
+                psim_scene_clear(&sc);
             } else if (r && rref) {
                 CHECK_MSG(strcmp(e.msg, eref.msg) == 0, "%s: '%s', line by line '%s'", what,
                           e.msg, eref.msg);
             } else if (r == 0) {
-                psim_scene_free(&sc);
+                psim_scene_clear(&sc);
             }
         }
     psim_io_set_blocks(0, 0);
     omp_set_num_threads(2);
     if (rref == 0)
-        psim_scene_free(&ref);
+        psim_scene_clear(&ref);
 }
 
 /* text lines of a scene (header and particle lines) */
@@ -240,7 +240,7 @@ static void test_block_reader(void)
 {
     psim_gen_params p = {.n = 3000, .L = 300, .r = 1, .steps = 5, .vmin = -1, .vmax = 1,
                          .seed = 7, .place = PSIM_PLACE_UNIFORM};
-    psim_scene a;
+    psim_scene a = {0};
     psim_error err = {{0}, 0};
     CHECK(psim_scene_generate(&p, &a, &err) == 0);
     char *text = NULL;
@@ -248,7 +248,7 @@ static void test_block_reader(void)
     FILE *f = open_memstream(&text, &len);
     CHECK(psim_scene_write(f, &a) == 0);
     fclose(f);
-    psim_scene_free(&a);
+    psim_scene_clear(&a);
     same_both_ways(text, len, "a generated scene");
     lines L = split_lines(text);
     size_t tl;
@@ -327,12 +327,12 @@ static void test_restart_columns(void)
     size_t tl;
     char *t = join(&L, "\n", 1, &tl);
     same_both_ways(t, tl, "a restart file with columns");
-    psim_scene sc;
+    psim_scene sc = {0};
     psim_error err = {{0}, 0};
     CHECK(read_mem(t, tl, &sc, &err) == 0);
     CHECK(sc.restart.ncols == 2 && sc.restart.col[0][1999] == 1999.0 * 1000003 &&
           sc.restart.col[1][1999] == 1);
-    psim_scene_free(&sc);
+    psim_scene_clear(&sc);
     free(t);
     static const char *ok[] = {"5 1 1 0 0 9007199254740992 0", "5 1 1 0 0 +7 007",
                                "5 1 1 0 0 -0 0"};

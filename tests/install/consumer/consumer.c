@@ -25,6 +25,8 @@ int main(int argc, char **argv)
         return fail("usage: consumer SCENE OUT VERSION ALLOCATOR", NULL);
     if (strcmp(PSIM_VERSION, argv[3]) != 0)
         return fail("psim/psim.h is of another version", PSIM_VERSION);
+    if (strcmp(psim_version(), PSIM_VERSION) != 0)
+        return fail("the library is of another version than its header", psim_version());
     if (strcmp(psim_allocator(), argv[4]) != 0)
         return fail("the library's allocator is not the one expected", psim_allocator());
     char buf[PSIM_FORMAT_MAX];
@@ -37,22 +39,23 @@ int main(int argc, char **argv)
         return fail("psim_topo_load", err.msg);
     psim_topo_free(topo);
 
-    psim_scene sc;
-    memset(&sc, 0, sizeof sc);
-    if (psim_scene_read(argv[1], &sc, &err))
-        return fail("psim_scene_read", err.msg);
+    psim_scene *sc = psim_scene_load(argv[1], &err);
+    if (!sc)
+        return fail("psim_scene_load", err.msg);
+    const long steps = psim_scene_steps(sc), n = psim_scene_count(sc);
     psim_config cfg;
     psim_config_default(&cfg);
     cfg.threads = 2;
-    cfg.steps = sc.steps;
-    psim_sim *s = psim_create(&sc, &cfg, &err);
+    cfg.steps = steps;
+    psim_sim *s = psim_create(sc, &cfg, &err);
+    psim_scene_free(sc);   /* the simulation holds its own copy */
     if (!s)
         return fail("psim_create", err.msg);
     int rc = 0;
-    for (long k = 0; k < sc.steps && rc == 0; k++)
+    for (long k = 0; k < steps && rc == 0; k++)
         if (psim_step(s, &err))
             rc = fail("psim_step", err.msg);
-    if (rc == 0 && (psim_step_index(s) != sc.steps || psim_count(s) != sc.n))
+    if (rc == 0 && (psim_step_index(s) != steps || psim_count(s) != n))
         rc = fail("the step index or particle count is wrong", NULL);
     if (rc == 0 && psim_state_finite(s, &err))
         rc = fail("psim_state_finite", err.msg);
@@ -69,6 +72,5 @@ int main(int argc, char **argv)
         printf("consumer: %s model, %ld disks, %ld steps, psim %s, %s\n", psim_sim_model(s),
                psim_count(s), psim_step_index(s), PSIM_VERSION, psim_allocator());
     psim_destroy(s);
-    psim_scene_free(&sc);
     return rc;
 }
