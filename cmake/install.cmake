@@ -3,7 +3,7 @@
 #   bin/psim                                   the program
 #   bin/psim-plot, bin/psim-animate            charts and animations of runs
 #                                              (scripts/psim-plot, scripts/animate)
-#   lib/libpsim.so.0.1.0, libpsim.so.0, libpsim.so
+#   lib/libpsim.so.0.2.0, libpsim.so.0, libpsim.so
 #                                              the shared library (SONAME
 #                                              libpsim.so.0) and its links
 #   lib/libpsim.a                              the static library
@@ -35,7 +35,7 @@ if(PSIM_SANITIZE)
 endif()
 
 install(TARGETS psim RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT Runtime)
-# The shared library libpsim.so.0.1.0 and its SONAME's link libpsim.so.0
+# The shared library libpsim.so.0.2.0 and its SONAME's link libpsim.so.0
 # (what programs load) are the component Library; libpsim.so (what -lpsim
 # links) goes with the Development files.
 install(TARGETS psimlib psim_shared psim_default EXPORT psimTargets

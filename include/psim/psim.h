@@ -35,9 +35,9 @@ extern "C" {
  * with PSIM_VERSION to tell that it runs with the library it was built
  * against. */
 #define PSIM_VERSION_MAJOR 0
-#define PSIM_VERSION_MINOR 1
+#define PSIM_VERSION_MINOR 2
 #define PSIM_VERSION_PATCH 0
-#define PSIM_VERSION "0.1.0"
+#define PSIM_VERSION "0.2.0"
 /* "MAJOR.MINOR.PATCH" of the library itself. */
 PSIM_API const char *psim_version(void);
 

@@ -14,7 +14,11 @@ for opt in --threads --check --trace --out --digits --stats --steps --quiet; do
 done
 run_ok "$PSIM" -h | cmp -s - "$tmp/help.txt" || fail "-h differs from --help"
 version=$("$PSIM" --version) || fail "--version failed"
-[[ $version =~ ^psim\ 0\.1\.0($|\ ) ]] || fail "--version printed '$version', expected 'psim 0.1.0...'"
+# the project's version, as CMakeLists.txt gives it
+want=$(sed -n 's/^project(psim VERSION \([0-9.]*\).*/\1/p' "$(dirname "$0")/../../CMakeLists.txt")
+[[ -n $want ]] || fail "no version in CMakeLists.txt's project()"
+[[ $version == "psim $want" || $version == "psim $want "* ]] ||
+    fail "--version printed '$version', expected 'psim $want...'"
 # every subcommand takes --version and --help; the version names the git
 # commit psim was built from and the build's options
 for sub in "" gen plan topo models; do
