@@ -24,7 +24,7 @@ want=$(sed -n 's/^project(psim VERSION \([0-9.]*\).*/\1/p' "$(dirname "$0")/../.
 for sub in "" gen plan topo models; do
     # shellcheck disable=SC2086
     v=$("$PSIM" $sub --version) || fail "psim $sub --version failed"
-    [[ $(head -1 <<<"$v") =~ ^psim\ 0\.1\.0\ \(git\ ([0-9a-f]{12}(-dirty)?|unknown.*)\)$ ]] ||
+    [[ $(head -1 <<<"$v") =~ ^psim\ ${want//./\\.}\ \(git\ ([0-9a-f]{12}(-dirty)?|unknown.*)\)$ ]] ||
         fail "psim $sub --version: first line '$(head -1 <<<"$v")' should name the git commit"
     grep -q "^built: .*, flags '" <<<"$v" || fail "psim $sub --version: no build options: $v"
     # shellcheck disable=SC2086
