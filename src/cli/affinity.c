@@ -34,7 +34,6 @@
 
 #include "cli.h"
 
-#define UNINSTRUMENTED __attribute__((no_sanitize("address", "thread", "undefined")))
 
 static cpu_set_t start_cpus;   /* the mask psim was started with */
 static int start_cpus_known;
@@ -61,7 +60,7 @@ typedef struct start_args {
 
 /* ---- small helpers, with no allocation --------------------------------- */
 
-UNINSTRUMENTED static int same(const char *a, const char *b)
+CLI_EARLY static int same(const char *a, const char *b)
 {
     while (*a && *a == *b)
         a++, b++;
@@ -69,7 +68,7 @@ UNINSTRUMENTED static int same(const char *a, const char *b)
 }
 
 /* "NAME=VALUE" of name in env, its VALUE; NULL if absent. */
-UNINSTRUMENTED static const char *env_value(char **env, const char *name)
+CLI_EARLY static const char *env_value(char **env, const char *name)
 {
     size_t len = strlen(name);
     for (char **e = env; e && *e; e++)
@@ -80,7 +79,7 @@ UNINSTRUMENTED static const char *env_value(char **env, const char *name)
 
 /* The decimal number text starts with, up to stop (a byte not a digit
  * ends it: that byte must be stop or the end); -1 if none or above max. */
-UNINSTRUMENTED static long leading_count(const char *text, char stop, long max)
+CLI_EARLY static long leading_count(const char *text, char stop, long max)
 {
     long v = 0;
     const char *p = text;
@@ -94,7 +93,7 @@ UNINSTRUMENTED static long leading_count(const char *text, char stop, long max)
 
 /* The long option called (a unique prefix of) name, of length len; NULL
  * if none or ambiguous, as getopt_long has it. */
-UNINSTRUMENTED static const struct option *long_option(const char *name, size_t len)
+CLI_EARLY static const struct option *long_option(const char *name, size_t len)
 {
     const struct option *found = NULL;
     for (const struct option *o = cli_run_longs; o->name; o++) {
@@ -110,7 +109,7 @@ UNINSTRUMENTED static const struct option *long_option(const char *name, size_t 
 }
 
 /* Note one option of a run: code c, its value (NULL: none). */
-UNINSTRUMENTED static void note_option(start_args *a, int c, const char *value)
+CLI_EARLY static void note_option(start_args *a, int c, const char *value)
 {
     if (c == 't')
         a->threads = leading_count(value, '\0', CLI_MAX_THREADS);
@@ -123,7 +122,7 @@ UNINSTRUMENTED static void note_option(start_args *a, int c, const char *value)
 }
 
 /* A cluster of short options, "-qt4" (argv[*i]); 0, or -1 past the end. */
-UNINSTRUMENTED static int short_options(start_args *a, int argc, char **argv, int *i)
+CLI_EARLY static int short_options(start_args *a, int argc, char **argv, int *i)
 {
     for (const char *p = argv[*i] + 1; *p; p++) {
         const char *spec = strchr(cli_run_shorts + 1, *p);
@@ -143,7 +142,7 @@ UNINSTRUMENTED static int short_options(start_args *a, int argc, char **argv, in
 }
 
 /* A long option, "--threads=4" or "--threads 4" (argv[*i]). */
-UNINSTRUMENTED static int long_opt(start_args *a, int argc, char **argv, int *i)
+CLI_EARLY static int long_opt(start_args *a, int argc, char **argv, int *i)
 {
     const char *name = argv[*i] + 2, *eq = strchr(name, '=');
     const struct option *o = long_option(name, eq ? (size_t)(eq - name) : strlen(name));
@@ -161,7 +160,7 @@ UNINSTRUMENTED static int long_opt(start_args *a, int argc, char **argv, int *i)
 
 /* Read the command line of a run as psim's parser (getopt_long, GNU
  * order: options and operands mixed, "--" ends the options) will. */
-UNINSTRUMENTED static start_args read_args(int argc, char **argv, char **env)
+CLI_EARLY static start_args read_args(int argc, char **argv, char **env)
 {
     start_args a = {1, 0, 0, 1};
     int first = 1;
@@ -193,7 +192,7 @@ UNINSTRUMENTED static start_args read_args(int argc, char **argv, char **env)
 
 /* Take the entries called name (all of them, in place) out of env;
  * *kept (if not NULL) gets the first one's "NAME=VALUE".  The count. */
-UNINSTRUMENTED static int remove_env(char **env, const char *name, const char **kept)
+CLI_EARLY static int remove_env(char **env, const char *name, const char **kept)
 {
     size_t len = strlen(name);
     char **out = env;
@@ -217,17 +216,11 @@ UNINSTRUMENTED static int remove_env(char **env, const char *name, const char **
 /* Threads runnable on the machine now, psim's own included (the fourth
  * field of /proc/loadavg, "RUNNING/TOTAL": the kernel's nr_running, as
  * /proc/stat's procs_running); -1 if unknown. */
-UNINSTRUMENTED static long runnable_now(void)
+CLI_EARLY static long runnable_now(void)
 {
     char buf[128];
-    int fd = open("/proc/loadavg", O_RDONLY | O_CLOEXEC);
-    if (fd < 0)
+    if (cli_early_read("/proc/loadavg", buf, sizeof buf) < 0)
         return -1;
-    ssize_t len = read(fd, buf, sizeof buf - 1);
-    close(fd);
-    if (len <= 0)
-        return -1;
-    buf[len] = '\0';
     const char *p = buf;
     for (int field = 0; field < 3; field++) {
         p = strchr(p, ' ');
@@ -248,7 +241,7 @@ UNINSTRUMENTED static long runnable_now(void)
  * look when even psim alone is too many; -1 if unknown. */
 #define WAIT_SAMPLES 20
 #define WAIT_GAP_NS 250000L
-UNINSTRUMENTED static long runnable_steadily(long room)
+CLI_EARLY static long runnable_steadily(long room)
 {
     long least = -1;
     const int looks = room >= 1 ? WAIT_SAMPLES : 1;   /* psim alone is 1 */
@@ -267,7 +260,7 @@ UNINSTRUMENTED static long runnable_steadily(long room)
 
 /* The threads a run will start: as asked, else OMP_NUM_THREADS's first
  * number, else one per CPU it may use; at most OMP_THREAD_LIMIT. */
-UNINSTRUMENTED static long run_threads(const start_args *a, char **env, long cpus)
+CLI_EARLY static long run_threads(const start_args *a, char **env, long cpus)
 {
     long t = a->threads;
     const char *v = env_value(env, "OMP_NUM_THREADS");
@@ -282,23 +275,10 @@ UNINSTRUMENTED static long run_threads(const start_args *a, char **env, long cpu
 
 #define CHOSEN "PSIM_WAIT_CHOSEN"
 
-/* v as decimal text at p; the end. */
-UNINSTRUMENTED static char *put_long(char *p, long v)
-{
-    char digits[24];
-    int n = 0;
-    do
-        digits[n++] = (char)('0' + v % 10);
-    while ((v /= 10) > 0 && n < 23);
-    while (n > 0)
-        *p++ = digits[--n];
-    return p;
-}
-
 /* Start psim again, as the kernel started it (its path, argv), with
  * OMP_WAIT_POLICY=passive and PSIM_WAIT_CHOSEN=OTHERS,THREADS,CORES added
  * to env; returns only if that fails (the run goes on as it is). */
-UNINSTRUMENTED static void start_passive(char **argv, char **env, long others,
+CLI_EARLY static void start_passive(char **argv, char **env, long others,
                                          long threads, long cores)
 {
     const char *path = (const char *)getauxval(AT_EXECFN);
@@ -306,11 +286,11 @@ UNINSTRUMENTED static void start_passive(char **argv, char **env, long others,
         return;
     static char passive[] = "OMP_WAIT_POLICY=passive", why[96] = CHOSEN "=";
     char *p = why + sizeof CHOSEN;
-    p = put_long(p, others);
+    p = cli_early_put_long(p, others);
     *p++ = ',';
-    p = put_long(p, threads);
+    p = cli_early_put_long(p, threads);
     *p++ = ',';
-    p = put_long(p, cores);
+    p = cli_early_put_long(p, cores);
     *p = '\0';
     size_t n = 0;
     while (env && env[n])
@@ -332,7 +312,7 @@ UNINSTRUMENTED static void start_passive(char **argv, char **env, long others,
  * not each have a CPU of those it may use: a spinning thread would then
  * take the CPU that the thread it waits for needs.  The user's
  * OMP_WAIT_POLICY or GOMP_SPINCOUNT is never overridden. */
-UNINSTRUMENTED static void choose_wait_policy(const start_args *a, char **argv, char **env)
+CLI_EARLY static void choose_wait_policy(const start_args *a, char **argv, char **env)
 {
     if (!a->run || !a->ok || !start_cpus_known || env_value(env, "OMP_WAIT_POLICY") ||
         env_value(env, "GOMP_SPINCOUNT"))
@@ -348,7 +328,7 @@ UNINSTRUMENTED static void choose_wait_policy(const start_args *a, char **argv, 
 
 /* A start of psim's own with the wait policy chosen: PSIM_WAIT_CHOSEN
  * says why (taken out of the environment, kept for the summary). */
-UNINSTRUMENTED static void chosen_before(char **env)
+CLI_EARLY static void chosen_before(char **env)
 {
     const char *v = env_value(env, CHOSEN);
     long n[3] = {-1, -1, -1};
@@ -367,7 +347,7 @@ UNINSTRUMENTED static void chosen_before(char **env)
     }
 }
 
-UNINSTRUMENTED static void start_affinity(int argc, char **argv, char **env)
+CLI_EARLY static void start_affinity(int argc, char **argv, char **env)
 {
     start_cpus_known = sched_getaffinity(0, sizeof start_cpus, &start_cpus) == 0;
     chosen_before(env);

@@ -6,6 +6,7 @@
 #include <stdio.h>
 
 #include <stdint.h>
+#include <sys/types.h>
 #include <time.h>
 
 #include "../io/scene.h"
@@ -37,6 +38,13 @@ int cli_env_threads(void);
  * calls fn with the calling thread's mask widened back to the start mask
  * (the runtime may have bound it), then restores it. */
 const cpu_set_t *cli_start_cpus(void);
+/* For what runs before any library starts (startup.c, affinity.c: the
+ * executable's .preinit_array), with system calls only and no sanitizer's
+ * instrumentation: v as decimal text at p (returns the end); a small file
+ * into buf, NUL-terminated (its length, or -1). */
+#define CLI_EARLY __attribute__((no_sanitize("address", "thread", "undefined")))
+CLI_EARLY char *cli_early_put_long(char *p, long v);
+CLI_EARLY ssize_t cli_early_read(const char *path, char *buf, size_t size);
 /* The command line as given (getopt permutes main's argv), for the
  * provenance of --stats. */
 void cli_set_argv(char **argv);

@@ -19,17 +19,13 @@
 
 #include "cli.h"
 
-/* Before the sanitizers' runtimes start too: not instrumented. */
-#define UNINSTRUMENTED __attribute__((no_sanitize("address", "thread", "undefined")))
-
 /* What psim needs mapped to start and run a small scene, beyond what the
  * program and its libraries already map when this runs (measured: the
  * allocator's first arena, the OpenMP runtime's structures, one thread's
  * stack, stdio's buffers). */
 #define START_HEADROOM_KB 16384L
 
-/* A long as decimal text at p; returns the end. */
-UNINSTRUMENTED static char *put_long(char *p, long v)
+CLI_EARLY char *cli_early_put_long(char *p, long v)
 {
     char digits[24];
     int n = 0;
@@ -43,15 +39,24 @@ UNINSTRUMENTED static char *put_long(char *p, long v)
 
 /* The kilobytes of address space mapped now (/proc/self/statm's first
  * field, in pages); -1 if unknown. */
-UNINSTRUMENTED static long mapped_kb(void)
+CLI_EARLY ssize_t cli_early_read(const char *path, char *buf, size_t size)
 {
-    char buf[128];
-    int fd = open("/proc/self/statm", O_RDONLY | O_CLOEXEC);
+    int fd = open(path, O_RDONLY | O_CLOEXEC);
     if (fd < 0)
         return -1;
-    ssize_t n = read(fd, buf, sizeof buf - 1);
+    ssize_t n = read(fd, buf, size - 1);
     close(fd);
     if (n <= 0)
+        return -1;
+    buf[n] = '\0';
+    return n;
+}
+
+CLI_EARLY static long mapped_kb(void)
+{
+    char buf[128];
+    ssize_t n = cli_early_read("/proc/self/statm", buf, sizeof buf);
+    if (n < 0)
         return -1;
     long pages = 0;
     for (ssize_t k = 0; k < n && buf[k] >= '0' && buf[k] <= '9'; k++)
@@ -60,16 +65,16 @@ UNINSTRUMENTED static long mapped_kb(void)
     return page > 0 ? pages * (page / 1024) : -1;
 }
 
-UNINSTRUMENTED static void refuse(long limit_kb, long need_kb)
+CLI_EARLY static void refuse(long limit_kb, long need_kb)
 {
     char line[256], *p = line;
     static const char a[] = "psim: the address-space limit (ulimit -v) of ",
                       b[] = " kB is too small: psim needs at least ",
                       c[] = " kB to start\n";
     memcpy(p, a, sizeof a - 1), p += sizeof a - 1;
-    p = put_long(p, limit_kb);
+    p = cli_early_put_long(p, limit_kb);
     memcpy(p, b, sizeof b - 1), p += sizeof b - 1;
-    p = put_long(p, need_kb);
+    p = cli_early_put_long(p, need_kb);
     memcpy(p, c, sizeof c - 1), p += sizeof c - 1;
     ssize_t w = write(STDERR_FILENO, line, (size_t)(p - line));
     (void)w;
@@ -89,14 +94,14 @@ const char *malloc_conf;
 __attribute__((used)) static void *(*const jemalloc_kept)(size_t, int) = mallocx;
 #endif
 
-UNINSTRUMENTED static void allocator_without_caches(void)
+CLI_EARLY static void allocator_without_caches(void)
 {
 #ifdef PSIM_USE_JEMALLOC
     malloc_conf = "tcache:false";
 #endif
 }
 
-UNINSTRUMENTED static void start_limits(int argc, char **argv, char **envp)
+CLI_EARLY static void start_limits(int argc, char **argv, char **envp)
 {
     (void)argc, (void)argv, (void)envp;
     struct rlimit as;
