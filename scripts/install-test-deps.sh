@@ -5,16 +5,5 @@
 # and the Python packages the tests read outputs with (numpy, matplotlib,
 # PIL, and ASE for the extended XYZ dumps).
 set -euo pipefail
-bash "$(dirname "$0")/install-deps.sh"
-pkgs=(g++ hwloc likwid valgrind python3-numpy python3-matplotlib python3-pil python3-ase)
-missing=()
-for p in "${pkgs[@]}"; do
-  dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")
-done
-if [ ${#missing[@]} -gt 0 ]; then
-  sudo=""
-  [ "$(id -u)" -eq 0 ] || sudo="sudo"
-  export DEBIAN_FRONTEND=noninteractive
-  $sudo apt-get update -qq
-  $sudo apt-get install -y -qq "${missing[@]}"
-fi
+exec bash "$(dirname "$0")/install-deps.sh" g++ hwloc likwid valgrind \
+  python3-numpy python3-matplotlib python3-pil python3-ase
