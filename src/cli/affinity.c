@@ -364,11 +364,6 @@ __attribute__((section(".preinit_array"), used)) static void (*const start_affin
 
 /* ---- what the run reports --------------------------------------------------- */
 
-const cpu_set_t *cli_start_cpus(void)
-{
-    return start_cpus_known ? &start_cpus : NULL;
-}
-
 const char *cli_wait_note(void)
 {
     static char note[160];

@@ -28,16 +28,18 @@ int cli_env_threads(void);
 
 /* The CPUs and OpenMP settings a run starts with (affinity.c, fixed
  * before the OpenMP runtime starts; docs/experiments.md, "Pinning").
- * cli_start_cpus: the affinity mask psim was started with (NULL if
- * unknown).  cli_wait_note: why OMP_WAIT_POLICY=passive was chosen (NULL
- * if it was not: the runtime's default, or the user's own setting).
+ * cli_wait_note: why OMP_WAIT_POLICY=passive was chosen (NULL if it
+ * was not: the runtime's default, or the user's own setting).
  * cli_binders_removed: the runtime's binding variables taken out because
  * --pin places the threads ("OMP_PROC_BIND=spread ..."; NULL: none).
  * cli_outside_placement: what places the threads when psim does not
  * (those variables, likwid-pin; NULL: nothing).  cli_with_start_cpus
  * calls fn with the calling thread's mask widened back to the start mask
  * (the runtime may have bound it), then restores it. */
-const cpu_set_t *cli_start_cpus(void);
+const char *cli_wait_note(void);
+const char *cli_binders_removed(void);
+const char *cli_outside_placement(void);
+int cli_with_start_cpus(int (*fn)(void *), void *ctx);
 /* For what runs before any library starts (startup.c, affinity.c: the
  * executable's .preinit_array), with system calls only and no sanitizer's
  * instrumentation: v as decimal text at p (returns the end); a small file
@@ -48,10 +50,6 @@ CLI_EARLY ssize_t cli_early_read(const char *path, char *buf, size_t size);
 /* The command line as given (getopt permutes main's argv), for the
  * provenance of --stats. */
 void cli_set_argv(char **argv);
-const char *cli_wait_note(void);
-const char *cli_binders_removed(void);
-const char *cli_outside_placement(void);
-int cli_with_start_cpus(int (*fn)(void *), void *ctx);
 /* The run's options, for parse_run and the start's reading of them. */
 extern const struct option cli_run_longs[];
 extern const char cli_run_shorts[];
