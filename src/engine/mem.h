@@ -11,8 +11,8 @@
 /* Prefetch the line `bytes` past p, to read (rw 0) or to write (rw 1):
  * for streams that the hardware prefetchers do not keep far enough ahead
  * (docs/performance.md, "Positions loaded before the pair tests").  The
- * address is an integer sum, so it may lie
- * past the end of p's array: a prefetch never faults. */
+ * address is an integer sum, so it may lie past the end of p's array: a
+ * prefetch never faults. */
 #define PSIM_PREFETCH_AHEAD(p, bytes, rw) \
     __builtin_prefetch((const void *)((uintptr_t)(p) + (bytes)), (rw))
 
