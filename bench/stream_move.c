@@ -3,10 +3,10 @@
  * structure of arrays as psim's store) read and written once, with no
  * force, no bookkeeping and no other data.  It bounds the move phase from
  * below and tells whether N particles' state streams from a cache or from
- * memory (docs/performance.md, "Twelfth pass").  With OMP_NUM_THREADS=T
+ * memory (docs/performance.md, "Memory bandwidth").  With OMP_NUM_THREADS=T
  * the particles are split over T threads (static shares, each written
  * first by its own thread), which tells whether the cores share what the
- * state streams from ("The force model's streaming phases on two cores").
+ * state streams from (the same section).
  * usage: stream_move [N [PASSES]]   (default 1000000 particles, 30 passes;
  * prints the fastest pass and the median, in ns a particle and GB/s) */
 #include <stdio.h>

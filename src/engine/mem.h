@@ -10,8 +10,9 @@
 
 /* Prefetch the line `bytes` past p, to read (rw 0) or to write (rw 1):
  * for streams that the hardware prefetchers do not keep far enough ahead
- * (docs/performance.md).  The address is an integer sum, so it may lie
- * past the end of p's array: a prefetch never faults. */
+ * (docs/performance.md, "Positions loaded before the pair tests").  The
+ * address is an integer sum, so it may lie past the end of p's array: a
+ * prefetch never faults. */
 #define PSIM_PREFETCH_AHEAD(p, bytes, rw) \
     __builtin_prefetch((const void *)((uintptr_t)(p) + (bytes)), (rw))
 
@@ -20,7 +21,8 @@
  * need them.  Software prefetches of the same lines, issued ahead in a
  * loop, are dropped once the core's miss buffers are full (an AMD EPYC
  * VM: the force model's pair tests took 1.45 times as long after them as
- * after these loads, docs/performance.md, "Fourteenth pass"). */
+ * after these loads, docs/performance.md, "Positions loaded before the
+ * pair tests"). */
 static inline void psim_touch(const double *a, size_t n)
 {
     uint64_t sum = 0, v;

@@ -10,19 +10,19 @@
  * then prefetches its streams a kilobyte ahead (the write streams too,
  * whose places follow the read's in a nearly sorted store).  At 1e5 and
  * 1e6 particles the sort took 0.75-0.95 of its time with them, at 1e4
- * slightly more (docs/performance.md). */
+ * slightly more (docs/performance.md, "Sort chunks"). */
 #define SORT_PREFETCH_MIN 65536
 /* Particles a chunk, at least: the sort takes 5-20 ns a particle, and a
  * parallel region with its four barriers some tens of microseconds on 16
  * threads of a VM (1e4 particles in 16 chunks sorted twice as slowly on 16
- * threads as on one: docs/performance.md, "Sixteenth pass").  Fewer than
+ * threads as on one: docs/performance.md, "Sort chunks").  Fewer than
  * two chunks' particles are sorted by the calling thread alone, more in
  * chunks of at least this many, by a team of all the threads: with a team
  * of fewer (12 of 16), libgomp ran the steps' later full teams 65 times
  * slower under --pin (measured; why, not established: docs/design.md,
  * "Teams").  4096 puts the course's 10k scenes in two chunks: their sort,
  * 11% of a step on one thread, then halves on two (8192 kept it on one
- * thread: docs/performance.md, "Two chunks for 10k disks").  The order is
+ * thread: docs/performance.md, "Sort chunks").  The order is
  * the same for any number of chunks. */
 #define SORT_GRAIN 4096
 

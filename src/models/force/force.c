@@ -10,7 +10,7 @@
 #include "../../io/cs267_random.h"
 
 /* Default skin of the neighbour lists, in cutoffs (docs/performance.md,
- * "force model": measured against the rebuild rate). */
+ * "Neighbour-list skin": measured against the rebuild rate). */
 #define FORCE_SKIN 2.0
 /* Cells as small as the list radius allows, up to this many particles:
  * the lists are sparse (about one neighbour), so every candidate beyond

@@ -738,7 +738,7 @@ static void run_tiles(const fmodel *m, psim_store *s, psim_thread_stats *ts, til
  * The tiles of a round do not depend on each other, so a loop gives what
  * a task a tile gives without libgomp's one lock on the team's task queue:
  * at 8 and 16 threads, 1e5 particles, 1.7-2x faster (docs/performance.md,
- * "Sixteenth pass").  Static: each thread keeps its tiles, and their
+ * "Rounds as loops on many threads").  Static: each thread keeps its tiles, and their
  * particles in its cache, from round to round and step to step; dynamic:
  * the threads share the tiles as they come. */
 static void run_round(const fmodel *m, psim_store *s, psim_thread_stats *ts, tile_fn fn,
