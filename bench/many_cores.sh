@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # bench/many_cores.sh: the measurements that need a machine with many cores
-# (the 8- and 16-thread goals of issues 7 and 10), in one command, so that a
-# short loan of such a machine is enough.  Writes into OUT_DIR:
+# (runs at 8 and 16 threads), in one command, so that a short time on such
+# a machine is enough.  Writes into OUT_DIR:
 #   machine.txt        lscpu, psim topo, psim plan for --pin cores
 #   determinism.txt    the same bytes at 1 and at the largest thread count,
 #                      for every model
@@ -17,8 +17,8 @@
 # usage: bench/many_cores.sh [--build DIR] [--scenes DIR] [--threads "P ..."]
 #                            [--only "PART ..."] OUT_DIR
 #   --build DIR    directory holding psim (default build)
-#   --scenes DIR   the course's cs3210-2024 scenes (default
-#                  ../shared/scenes/cs3210-2024); its standard/ and large/
+#   --scenes DIR   the folder of the course's cs3210-2024 scenes (default:
+#                  a folder outside the repository); its standard/ and large/
 #                  scenes are used when present
 #   --threads L    thread counts (default "1 2 4 8 16")
 #   --only L       parts to run, of: machine determinism force scaling

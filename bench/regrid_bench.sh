@@ -2,22 +2,22 @@
 # The discrete model's grid that follows the disks (src/models/discrete/
 # regrid.c) measured: wall time per step (time_s / steps from --stats, so
 # reading the scene is left out), medians of K interleaved rounds, 1 thread,
-# with the grid following the disks (the default) and with the old plan
+# with the grid following the disks (the default) and with a fixed grid
 # (--option regrid=0: the bounding box at the start, kept), and the search's
 # distance tests per disk and step.
 #
 # usage: bench/regrid_bench.sh [--runs K] [--old PSIM] [--course DIR] [--course-only] [BUILD_DIR]
-#   --runs K      rounds (default 5); the old plan of the outlier scenes,
+#   --runs K      rounds (default 5); the fixed grid of the outlier scenes,
 #                 which takes minutes, runs once
-#   --old PSIM    another build (main before this work) for the course's
-#                 scenes, run interleaved with this one, outputs compared
-#   --course DIR  the course's scenes (../shared/scenes/cs3210-2024): the
-#                 standard/*.in and large/*.in of DIR, old against new
+#   --old PSIM    another build to compare with on the course's scenes,
+#                 run interleaved with this one, outputs compared
+#   --course DIR  the folder of the course's cs3210-2024 scenes: the
+#                 standard/*.in and large/*.in of DIR, --old against this
 #   --course-only just that table
 #   BUILD_DIR     directory holding psim (default build)
 #
 # Scenes (written to a temporary directory):
-#   uniform    psim gen -n 100000 --density 0.7 -s 5 (the scene)
+#   uniform    psim gen -n 100000 --density 0.7 -s 5
 #   outlier    the same with disk 0 at x = 1e12
 #   cluster    20k disks on a jittered lattice of density 0.5 (side 354) in
 #              the middle of a 5000 box, velocities in [-1, 1], 1000 steps:

@@ -18,7 +18,7 @@ no_temps()
 }
 
 # --- OMP_NUM_THREADS gets the limit and the error of --threads ---------------
-# (99999 crashed in the OpenMP runtime, 32768 printed the runtime's error)
+# (left to the OpenMP runtime, 99999 crashes it and 32768 prints its error)
 for v in 99999 32768 4097; do
     expect_fail --rc 2 "OMP_NUM_THREADS: $v is out of range 1..4096" \
         env OMP_NUM_THREADS="$v" "$PSIM" -q "$tmp/s.in"

@@ -163,7 +163,7 @@ expect_fail --rc 2 "--option cutoff=1e+160 is too large for the force model" \
     "$PSIM" -q --model force -O cutoff=1e160 "$tmp/f170.in"
 expect_fail --rc 2 "--option dt=1e+300 (cutoff 2) is too large for the force model" \
     "$PSIM" -q --model force -O dt=1e300 "$tmp/f170.in"
-# a particle that its reflections could never bring back: its line, now
+# a particle that its reflections could never bring back: its line, before the run
 expect_fail --rc 1 "fast.in:" "$PSIM" -q --model force "$tmp/fast.in"
 [[ $FAIL_LINE == *"too large for the force model in a box of L = 1e+06"* ]] ||
     fail "force: a particle that cannot be brought back: $FAIL_LINE"

@@ -2,14 +2,14 @@
 # The discrete model's grid follows the disks (src/models/discrete/regrid.c):
 #   - outlier: one disk at x = 1e12 in a scene of 10k does not stretch the
 #     grid: the same cells, no re-plan, and per disk the same search work as
-#     the scene without it (the old plan, --option regrid=0, makes over a
-#     hundred times the distance tests);
+#     the scene without it (a grid fixed at the start, --option regrid=0,
+#     makes over a hundred times the distance tests);
 #   - cluster: 4000 disks expanding from the middle of a large box, and
 #     contract: 4000 disks gathering towards its centre, are planned again
 #     as they go: over the last 50 steps the search makes at most twice the
 #     tests per disk of a run planned afresh from the state 50 steps before
 #     the end, and the final cells are within a factor 2 of that plan's
-#     (the old plan makes several times the tests);
+#     (a grid fixed at the start makes several times the tests);
 #   - each gives the same bytes at 1, 2 and 3 threads, passes --check, and a
 #     run restarted halfway (re-planned before and after) gives the bytes of
 #     the whole run.
@@ -48,7 +48,7 @@ same_bytes() {
     same_file "$tmp/$1.t1" "$tmp/$1.check" "$1: --final with --check"
 }
 
-# outlier: the scene of the issue, smaller, with disk 0 moved to x = 1e12
+# outlier: bench/regrid_bench.sh's uniform scene, smaller, with disk 0 at x = 1e12
 run_ok "$PSIM" gen -n 10000 --density 0.7 -s 5 --seed 5 -o "$tmp/base.in"
 awk 'NR == 5 { $2 = "1e12" } { print }' "$tmp/base.in" >"$tmp/outlier.in"
 run_ok "$PSIM" -q --threads 1 --stats "$tmp/base.json" "$tmp/base.in"

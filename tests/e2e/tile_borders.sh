@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
-# Small tiles without extra resolutions (issue 10): on a dense scene whose
+# Small tiles without extra resolutions: on a dense scene whose
 # disks all pile towards one corner (as the course's 10k_density_0.9), a
 # round of each tile resolves one generation of its worklist before the
 # contacts across tiles, so sixteen tiles need about the pair resolutions
 # of one tile (within 15%).  The same scene with each tile resolved to its
-# fixpoint first (--option gens=0, the scheme before) needs a quarter more
+# fixpoint first (--option gens=0) needs a quarter more
 # or worse, so the scene is one where tile borders matter.  Every run is
 # valid under --check, and the default tiles give the same bytes at 1 and
 # 2 threads.

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Tiles cut where the work is (issue 10, src/models/discrete/balance.c): on
+# Tiles cut where the work is (src/models/discrete/balance.c): on
 # a dense scene whose disks pile towards one corner, the model cuts its
 # 2 x 2 tiles anew at the quantiles of the work, every 8 steps; every step
 # stays valid under --check, the pair resolutions stay within 5% of the
