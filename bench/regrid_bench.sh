@@ -90,7 +90,7 @@ last100() {
 for scene in uniform outlier cluster cluster+outlier; do
     scene_in=$tmp/$scene.in
     : >"$tmp/t1"; : >"$tmp/t0"; : >"$tmp/e1"; : >"$tmp/e0"
-    # the old plan of the outliers puts every disk in one column of cells:
+    # the fixed grid of the outliers puts every disk in one column of cells:
     # once (minutes), and not at all for the cluster with an outlier
     oldruns=$runs
     case $scene in outlier) oldruns=1 ;; cluster+outlier) oldruns=0 ;; esac

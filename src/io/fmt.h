@@ -53,7 +53,7 @@ const char *psim_scan_double_padded(const char *s, double *out);
  * (0: the defaults, 8 MiB and 64 KiB). */
 void psim_io_set_blocks(size_t block, size_t piece);
 
-/* PSIM_SLOW_IO=1 in the environment: the old code paths (snprintf and
+/* PSIM_SLOW_IO=1 in the environment: the plain code paths (snprintf and
  * fprintf, strtod line by line), for tests that compare the bytes. */
 int psim_io_slow(void);
 

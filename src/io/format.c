@@ -58,7 +58,7 @@ static size_t state_line(char *out, long i, const void *vctx)
     return (size_t)(p - out);
 }
 
-/* The old code: snprintf per number, fprintf per line. */
+/* The plain writer: snprintf per number, fprintf per line. */
 static int write_state_slow(FILE *f, int with_step, long step, long n, const psim_cols *c,
                             int digits)
 {

@@ -125,9 +125,9 @@ PYEOF
 
 # A disk rattling in a gap of 1e-6 r: disk 1 hits disk 0, which touches the
 # wall, and then goes back and forth between it and the other wall, 10^6
-# times a step.  Each event was kept in the calendar's current bucket after
-# it was taken (the fuzzed scene, with a gap of 1e-7 r, grew it to
-# gigabytes): memory stays that of a scene whose disks are 0.1 r apart.
+# times a step.  A calendar that kept each event in its current bucket
+# after taking it would grow to gigabytes (the fuzzed scene, a gap of
+# 1e-7 r): memory stays that of a scene whose disks are 0.1 r apart.
 printf '2\n4.000001\n1\n2\n0 1 2 0 0\n1 3 2 -1 0\n' >"$tmp/rattle.in"
 printf '2\n4.1\n1\n2\n0 1 2 0 0\n1 3 2 -1 0\n' >"$tmp/rattle.wide.in"
 run_ok "$PSIM" -q --model event --check --stats "$tmp/rattle.json" --final "$tmp/rattle.out" "$tmp/rattle.in"

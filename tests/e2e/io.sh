@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Fast reading and writing give the bytes of the old code paths: every
+# Fast reading and writing give the bytes of the plain code paths: every
 # output (--out of each model, --trace, --final, psim gen) at --threads 1
 # and 3 is byte-identical to the one PSIM_SLOW_IO=1 makes (snprintf and
 # fprintf line by line, strtod line by line), on scenes of typical and of
@@ -95,7 +95,7 @@ same_io hex --steps 0 "$tmp/hex.in"
 sed "12345s/ [^ ]*\$/ 1e999/" "$tmp/u.in" >"$tmp/inf.in"
 expect_fail --rc 1 "$tmp/inf.in:12345: particle" "$PSIM" -q --steps 0 "$tmp/inf.in"
 
-# psim gen: the same scenes as the old writer
+# psim gen: the same scenes as the plain writer
 for args in "--n 20000" "--n 20000 --vmin -1e-9 --vmax 1e-9" "--n 9000 --L 1e20 --r 1e10" \
     "--n 20000 --density 0.6 --place lattice" "--n 0"; do
     # shellcheck disable=SC2086 # the options are words
