@@ -42,7 +42,7 @@ else
     [[ -s $tmp/f.out ]] || fail "a small scene under ulimit -v wrote nothing"
     rm -f "$tmp/f.out"
     # a scene that does not fit: the allocation that fails is named (the
-    # allocator's thread caches crashed with SIGSEGV here)
+    # allocator's thread caches on, it would end in SIGSEGV here)
     for extra in 4000 12000 24000; do
         for t in 1 2; do
             expect_fail --rc 1 "out of memory" \
