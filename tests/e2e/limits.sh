@@ -41,8 +41,8 @@ else
     run_ok bash -c "ulimit -v $((need + 24000)); exec '$PSIM' -q --threads 1 --final '$tmp/f.out' '$tmp/s.in'"
     [[ -s $tmp/f.out ]] || fail "a small scene under ulimit -v wrote nothing"
     rm -f "$tmp/f.out"
-    # a scene that does not fit: the allocation that fails is named (the
-    # allocator's thread caches on, it would end in SIGSEGV here)
+    # a scene that does not fit: the allocation that fails is named (with
+    # the allocator's thread caches on, psim would end in SIGSEGV here)
     for extra in 4000 12000 24000; do
         for t in 1 2; do
             expect_fail --rc 1 "out of memory" \
