@@ -27,11 +27,11 @@ Options:
   --out FILE         markdown file to update (default docs/performance.md)
   -h, --help         show this help
 
-Default scenes (relative to the repository root):
-  ../shared/scenes/cs3210-2024/standard/10k_density_0.7.in
-  ../shared/scenes/cs3210-2024/standard/10k_density_0.9.in
-  ../shared/scenes/cs3210-2024/large/100k_density_0.7.in
-  ../shared/scenes/cs3210-2024/large/100k_density_0.9.in
+  --scenes DIR       the folder of the course's CS3210 AY2024/25 scenes: times
+                     its standard/10k_density_0.7, standard/10k_density_0.9,
+                     large/100k_density_0.7 and large/100k_density_0.9
+
+Give SCENE files, --scenes DIR, or both.
 
 The baseline is (re)built into build/bench-baseline with gcc -O2 when missing
 or older than bench/baseline.c.  Requires bash >= 5, GNU time (/usr/bin/time,
@@ -68,6 +68,7 @@ psim="$root/build/psim"
 threads_list="1,2"
 out="$root/docs/performance.md"
 scenes=()
+course=""
 
 while [[ $# -gt 0 ]]; do
     case $1 in
@@ -120,6 +121,15 @@ while [[ $# -gt 0 ]]; do
             out=$(abspath "${1#*=}")
             shift
             ;;
+        --scenes)
+            [[ $# -ge 2 ]] || die "--scenes needs a value"
+            course=$(abspath "$2")
+            shift 2
+            ;;
+        --scenes=*)
+            course=$(abspath "${1#*=}")
+            shift
+            ;;
         --)
             shift
             while [[ $# -gt 0 ]]; do
@@ -149,12 +159,15 @@ fi
     die "--threads must be a comma-separated list of positive integers (got '$threads_list')"
 IFS=, read -r -a threads <<<"$threads_list"
 
-if [[ ${#scenes[@]} -eq 0 ]]; then
+if [[ -n $course ]]; then
     for s in standard/10k_density_0.7 standard/10k_density_0.9 \
         large/100k_density_0.7 large/100k_density_0.9; do
-        scenes+=("$root/../shared/scenes/cs3210-2024/$s.in")
+        scenes+=("$course/$s.in")
     done
 fi
+[[ ${#scenes[@]} -gt 0 ]] ||
+    die "no scenes: give SCENE files or --scenes DIR (the course's scenes; --help)"
+
 
 # --- prerequisites -----------------------------------------------------------
 ((BASH_VERSINFO[0] >= 5)) || die "needs bash >= 5 (for \$EPOCHREALTIME)"

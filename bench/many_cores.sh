@@ -17,9 +17,9 @@
 # usage: bench/many_cores.sh [--build DIR] [--scenes DIR] [--threads "P ..."]
 #                            [--only "PART ..."] OUT_DIR
 #   --build DIR    directory holding psim (default build)
-#   --scenes DIR   the folder of the course's cs3210-2024 scenes (default:
-#                  a folder outside the repository); its standard/ and large/
-#                  scenes are used when present
+#   --scenes DIR   the folder of the course's CS3210 AY2024/25 scenes; its
+#                  standard/ and large/ scenes are used when present (default:
+#                  scenes of the same sizes, radii and speeds from psim gen)
 #   --threads L    thread counts (default "1 2 4 8 16")
 #   --only L       parts to run, of: machine determinism force scaling
 #                  tiles event (default: all, in that order)
@@ -27,7 +27,7 @@
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 build=build
-scenes=../shared/scenes/cs3210-2024
+scenes=""
 threads="1 2 4 8 16"
 only="machine determinism force scaling tiles event"
 out=""
@@ -51,6 +51,19 @@ tcsv=$(echo "$threads" | tr ' ' ',')
 tmp=$(mktemp -d "${TMPDIR:-/tmp}/many_cores.XXXXXX")
 trap 'rm -rf "$tmp"' EXIT
 log="$out/log.txt"
+
+# Without --scenes: scenes like the course's (its sizes, radii and speeds;
+# other disks), made by psim gen.
+if [ -z "$scenes" ]; then
+    scenes="$tmp/scenes"
+    mkdir -p "$scenes/standard" "$scenes/large"
+    for spec in standard/10k_density_0.7:10000:47 standard/10k_density_0.9:10000:53 \
+        large/100k_density_0.7:100000:15 large/100k_density_0.9:100000:17; do
+        IFS=: read -r name n r <<< "$spec"
+        "$psim" gen --n "$n" --L 10000 --r "$r" --vmin 2 --vmax 5 --steps 100 \
+            --out "$scenes/$name.in" 2> /dev/null
+    done
+fi
 
 part() {  # name command...: run a part, timing it, if --only names it
     local name=$1 t0
