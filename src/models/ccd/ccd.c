@@ -399,7 +399,6 @@ const psim_model psim_model_ccd = {
               [CS_WALLS] = {"walls", "no disk can reach a wall in free flight"},
               [CS_MOVE] = {"move", "every velocity 0: nothing moves"},
               [CS_GRAPH] = {"task_graph", "one thread: detection runs in order, no tasks"}},
-    .sorts_itself = 1,
     .limits = limits,
     .work_unit = "pair tests",
     .create = create,

@@ -306,7 +306,6 @@ const psim_model psim_model_discrete = {
               [DS_WALLS] = {"walls", "no disk could reach a wall"},
               [DS_MOVE] = {"move", "nothing moves"},
               [DS_GRAPH] = {"task_graph", "one thread: resolution tasks run in order"}},
-    .sorts_itself = 1,
     .work_unit = "resolutions",
     .output = {.final = 1},
     .output_digits = -1,

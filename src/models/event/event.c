@@ -432,7 +432,6 @@ const psim_model psim_model_event = {
     .values = {"time", "kinetic0", "kinetic", "virial", "wall_impulse", NULL},
     .output = {.final = 1},
     .output_digits = -1,
-    .sorts_itself = 1,
     .work_unit = "events",
     /* (the model checks what depends on the scene: restart_disk_bad) */
     .restart_cols = {{"t_own", 0, 0, PSIM_MAX_STEPS},

@@ -447,7 +447,6 @@ const psim_model psim_model_force = {
               [FS_WALLS] = {"walls", "no particle crossed a wall: no reflections"},
               [FS_GRAPH] = {"task_graph", "one thread or one tile: tiles run in order, no tasks"},
               [FS_LISTS] = {"rebuilds", "lists kept past the skin: the nearest unlisted pair is farther"}},
-    .sorts_itself = 1,
     .limits = limits,
     .work_unit = "pair tests",
     .create = create,
