@@ -6,11 +6,11 @@
  * that composes engine and models.
  *
  * A step (psim_step): a new step for the polls; with --check, the state
- * before it saved; drift (optional, timed as the engine's "move" phase);
- * interact, the rest of the step; the step counted; with --check, check
- * comparing the state before and after.  interact times its own phases
- * (named in phases[], numbered from PSIM_PHASE_MODEL) and adds to its
- * counters (named in counters[]).  Every loop of interact that can run
+ * before it saved; interact, the whole step, moves included; the step
+ * counted; with --check, check comparing the state before and after.
+ * interact times its own phases (named in phases[], numbered from
+ * PSIM_PHASE_MODEL) and may time its moves as the engine's "move" phase
+ * (PSIM_PHASE_MOVE); it adds to its counters (named in counters[]).  Every loop of interact that can run
  * long polls (poll.h): progress, and a stop asked by a signal, inside the
  * step.
  *
@@ -104,7 +104,6 @@ typedef struct psim_model {
     int (*limits)(const struct psim_sim *e, const psim_scene *sc, psim_limits *lim,
                   psim_error *err);
     void *(*create)(struct psim_sim *e, const psim_scene *sc, psim_error *err);
-    void (*drift)(struct psim_sim *e, void *m);                 /* optional */
     int (*interact)(struct psim_sim *e, void *m, psim_error *err);
     int (*check)(struct psim_sim *e, void *m, const psim_snapshot *before,
                  const psim_snapshot *after, psim_error *err);  /* optional */

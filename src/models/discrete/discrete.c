@@ -219,6 +219,7 @@ static int sort_and_fit(psim_sim *e, dmodel *m, psim_error *err)
 static int interact(psim_sim *e, void *p, psim_error *err)
 {
     dmodel *m = p;
+    PSIM_TIMED(e, PSIM_PHASE_MOVE, discrete_drift(e, m));
     if (discrete_free_flight(e, m)) {
         m->fl.quiet = 1;
         if (m->fl.walls)
@@ -313,7 +314,6 @@ const psim_model psim_model_discrete = {
     .follows_order = 1,
     .limits = limits,
     .create = create,
-    .drift = discrete_drift,
     .interact = interact,
     .check = discrete_check,
     .destroy = destroy,
