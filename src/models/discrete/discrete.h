@@ -36,10 +36,10 @@
 #include "../../engine/engine.h"
 
 /* The model's own phases and logged quantities (psim_stats). */
-enum { DPHASE_CONTACTS = PSIM_PHASE_MODEL, DPHASE_RESOLVE };
+enum { DPHASE_CONTACTS = PSIM_PHASE_MODEL, DPHASE_RESOLVE, DPHASE_END };
 enum { DC_CONTACTS, DC_ROUNDS, DC_MAX_ROUNDS, DC_PAIR_CHECKS, DC_PAIR_RES,
        DC_WALL_RES, DC_TASKS, DC_MAX_STEP_RES, DC_SEARCH_TESTS, DC_REGRIDS,
-       DC_CUTS };
+       DC_CUTS, DC_END };
 
 /* A contact: disks i < j in store order.  Positions are frozen while
  * collisions are resolved, so dp = p_j - p_i is recomputed from them when
