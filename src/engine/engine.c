@@ -442,10 +442,6 @@ int psim_step(psim_sim *e, psim_error *err)
     psim_poll_begin(e);
     if (e->cfg.check)
         PSIM_TIMED(e, PSIM_PHASE_CHECK, take_snapshot(e, &e->before));
-    if (e->model->drift)
-        PSIM_TIMED(e, PSIM_PHASE_MOVE, e->model->drift(e, e->mstate));
-    if (!e->model->sorts_itself)
-        psim_engine_sort(e);
     if (e->model->interact(e, e->mstate, err))
         return -1;
     if (psim_stop_requested())   /* a poll ended a loop early: the state is of no use */

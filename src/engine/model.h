@@ -5,13 +5,19 @@
  * folder under src/models/ and listed in src/models/models.c, the layer
  * that composes engine and models.
  *
- * A step: drift (optional; before the sort, timed as the engine's "move"
- * phase), the engine's sort by cell (only if the model asked for a grid),
- * then interact, where the model times its own phases (named in phases[],
- * numbered from PSIM_PHASE_MODEL) and adds to its counters (named in
- * counters[]).  With --check, check compares the state before and after.
- * Every loop of interact that can run long polls (poll.h): progress, and
- * a stop asked by a signal, inside the step. */
+ * A step (psim_step): a new step for the polls; with --check, the state
+ * before it saved; interact, the whole step, moves included; the step
+ * counted; with --check, check comparing the state before and after.
+ * interact times its own phases (named in phases[], numbered from
+ * PSIM_PHASE_MODEL) and may time its moves as the engine's "move" phase
+ * (PSIM_PHASE_MOVE); it adds to its counters (named in counters[]).  Every loop of interact that can run
+ * long polls (poll.h): progress, and a stop asked by a signal, inside the
+ * step.
+ *
+ * The grid (psim_engine_grid and the calls after it) and the sort by cell
+ * (psim_engine_sort) are services a model calls: the engine plans no grid
+ * and never sorts the store by itself.  A model that wants its particles
+ * by cell plans a grid and calls the sort when it needs them sorted. */
 #ifndef PSIM_ENGINE_MODEL_H
 #define PSIM_ENGINE_MODEL_H
 #include <stdio.h>
@@ -85,8 +91,6 @@ typedef struct psim_model {
     int output_digits;                            /* default decimals; -1: shortest */
     psim_model_option options[PSIM_MODEL_OPTIONS + 1]; /* name NULL ends them */
     psim_model_skip skips[PSIM_SKIPS_MAX + 1];          /* stage NULL ends them */
-    int sorts_itself;   /* the engine does not sort every step: the model
-                         * calls psim_engine_sort when it needs to */
     int follows_order;  /* its results depend on the store's order (the
                          * order of equal keys the sort keeps): restart
                          * files list the particles in that order, not by id */
@@ -100,7 +104,6 @@ typedef struct psim_model {
     int (*limits)(const struct psim_sim *e, const psim_scene *sc, psim_limits *lim,
                   psim_error *err);
     void *(*create)(struct psim_sim *e, const psim_scene *sc, psim_error *err);
-    void (*drift)(struct psim_sim *e, void *m);                 /* optional */
     int (*interact)(struct psim_sim *e, void *m, psim_error *err);
     int (*check)(struct psim_sim *e, void *m, const psim_snapshot *before,
                  const psim_snapshot *after, psim_error *err);  /* optional */
@@ -145,9 +148,10 @@ void psim_state_cols_free(psim_cols *c);
  * order until the first sort) and only the rest of the scene from sc. */
 struct psim_sim *psim_engine_create(psim_scene *sc, const psim_config *cfg,
                                     const psim_model *m, int take, psim_error *err);
-/* Give the simulation a grid of cells no narrower than reach (and sort by
- * it every step), over bbox = {xmin, ymin, xmax, ymax} or, if NULL, the
- * box.  May be called again to re-plan it.  Returns 0 or -1 (no memory). */
+/* Give the simulation a grid of cells no narrower than reach, the one
+ * psim_engine_sort sorts by, over bbox = {xmin, ymin, xmax, ymax} or, if
+ * NULL, the box.  May be called again to re-plan it.  Returns 0 or -1 (no
+ * memory). */
 int psim_engine_grid(struct psim_sim *e, double reach, const double *bbox);
 /* The same with cells of about `occupancy` particles (0: the default). */
 int psim_engine_grid_occ(struct psim_sim *e, double reach, const double *bbox,
@@ -166,7 +170,10 @@ void psim_engine_tile_particles(struct psim_sim *e, double particles);
  * next sort follows them.  Restart files carry the cuts, so a model whose
  * results follow its tiles may choose them from what its steps did. */
 void psim_engine_grid_cut(struct psim_sim *e, const int32_t *cut_x, const int32_t *cut_y);
-/* Sort the store by cell now (after a re-plan), timed as the sort. */
+/* Sort the store by the grid's cells now, timed as the engine's sort
+ * phase (without a grid it leaves the order as it is).  In a run from a
+ * restart file of a model that follows_order, the first sort starts from
+ * the order the file saved. */
 void psim_engine_sort(struct psim_sim *e);
 /* Whether text "K=V,..." holds options of model m, each once (a restart
  * file's): 0, or -1 with err set. */

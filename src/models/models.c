@@ -1,21 +1,24 @@
-/* The models psim knows.  Adding a model: a folder under src/models/ that
- * defines one psim_model, its files in CMakeLists.txt, and one line in
- * the list below. */
+/* The models psim knows, in the order psim models lists them.  Adding a
+ * model (docs/adding-a-model.md): a folder under src/models/ that defines
+ * one psim_model, psim_model_NAME, and one line PSIM_MODEL(NAME) in the
+ * list below; CMake compiles every src/models/<folder>/<file>.c. */
 #include <string.h>
 
 #include "models.h"
 
-extern const psim_model psim_model_discrete;
-extern const psim_model psim_model_ccd;
-extern const psim_model psim_model_force;
-extern const psim_model psim_model_event;
+#define PSIM_MODELS \
+    PSIM_MODEL(discrete)   /* CS3210 AY2024/25: move, then collisions to a fixpoint */ \
+    PSIM_MODEL(ccd)        /* CS3210 AY2019/20: time-of-impact collisions */ \
+    PSIM_MODEL(force)      /* Berkeley CS267 HW2: short-range repulsion */ \
+    PSIM_MODEL(event)      /* exact event-driven hard disks */
 
-static const psim_model *const models[] = {
-    &psim_model_discrete,   /* CS3210 AY2024/25: move, then collisions to a fixpoint */
-    &psim_model_ccd,        /* CS3210 AY2019/20: time-of-impact collisions */
-    &psim_model_force,      /* Berkeley CS267 HW2: short-range repulsion */
-    &psim_model_event,      /* exact event-driven hard disks */
-};
+/* The list twice: each model's value declared, then a pointer to it. */
+#define PSIM_MODEL(name) extern const psim_model psim_model_##name;
+PSIM_MODELS
+#undef PSIM_MODEL
+#define PSIM_MODEL(name) &psim_model_##name,
+static const psim_model *const models[] = {PSIM_MODELS};
+#undef PSIM_MODEL
 
 #define NMODELS ((int)(sizeof models / sizeof models[0]))
 

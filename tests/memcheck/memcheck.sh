@@ -24,10 +24,22 @@ vg()
         --error-exitcode=99 --suppressions="$SUPP" "$PSIM" "$@" >"$tmp/$name.out" 2>"$tmp/$name.err" || rc=$?
     ((rc == 0)) || fail "$name: exit $rc under memcheck: $(head -c 3000 "$tmp/$name.err")"
 }
-for m in $("$PSIM" models | awk '/^[a-z]/ { print $1 }'); do
+models=$("$PSIM" models | awk '/^[a-z]/ { print $1 }')
+[[ -n $models ]] || fail "psim models lists no model"
+own=0   # the models with an initial state of their own (-n)
+for m in $models; do
     vg "$m" -q --threads 2 --tile 1 --model "$m" --check --trace "$tmp/$m.trace" "$tmp/s.in"
+    rc=0
+    "$PSIM" -q --model "$m" -n 10 --steps 0 >/dev/null 2>"$tmp/$m-n.err" || rc=$?
+    if ((rc == 0)); then
+        vg "$m-n" -q --threads 2 --model "$m" -n 3000 -s 1 --steps 20 -o "$tmp/$m-n.txt"
+        own=$((own + 1))
+    else
+        ((rc == 2)) && grep -q "no initialisation of its own" "$tmp/$m-n.err" ||
+            fail "$m -n 10: exit $rc: $(cat "$tmp/$m-n.err")"
+    fi
 done
-vg force-n -q --threads 2 --model force -n 3000 -s 1 --steps 20 -o "$tmp/force-n.txt"
+((own > 0)) || fail "no model makes an initial state of its own (-n)"
 vg gen gen --n 500 --density 0.5 -o "$tmp/g.in"
 # the error paths too: a bad scene, a refused option
 printf '2\n10\n1\n5\n0 1 1 0 0\n1 5 x 0 0\n' >"$tmp/bad.in"

@@ -32,11 +32,29 @@ models)
     tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
     "$bin" gen -n 4000 --density 0.7 -s 10 --seed 3 -o "$tmp/dense.in" 2>/dev/null || exit 1
     "$bin" gen -n 3000 --density 0.4 -s 10 --seed 4 --place nonoverlap -o "$tmp/free.in" 2>/dev/null || exit 1
-    runs=("--model discrete --tile 16 $tmp/dense.in"
-          "--model ccd --tile 16 $tmp/dense.in"
-          "--model force --tile 16 $tmp/free.in"
-          "--model force --tile 16 -n 20000 -s 1 --steps 20"
-          "--model event $tmp/free.in")
+    # every model psim lists: on the scene without overlaps, on the dense
+    # one where the model takes it (a model that refuses overlaps exits 1
+    # on it at once, a report exits 66), and from its own initial state
+    # where it has one (-n)
+    runs=()
+    models=$("$bin" models | awk '/^[a-z]/ { print $1 }')
+    [[ -n $models ]] || { echo "FAIL: psim models lists no model" >&2; exit 1; }
+    for m in $models; do
+        runs+=("--model $m --tile 16 $tmp/free.in")
+        "$bin" -q --model "$m" --steps 0 "$tmp/dense.in" >/dev/null 2>"$tmp/err"
+        case $? in
+        0) runs+=("--model $m --tile 16 $tmp/dense.in") ;;
+        1) grep -q ThreadSanitizer "$tmp/err" && { cat "$tmp/err" >&2; exit 1; } ;;
+        *) echo "FAIL: psim --model $m --steps 0 on the dense scene:" >&2; head -20 "$tmp/err" >&2; exit 1 ;;
+        esac
+        "$bin" -q --model "$m" -n 10 --steps 0 >/dev/null 2>"$tmp/err"
+        case $? in
+        0) runs+=("--model $m --tile 16 -n 20000 -s 1 --steps 20") ;;
+        2) grep -q "no initialisation of its own" "$tmp/err" ||
+               { echo "FAIL: psim --model $m -n 10:" >&2; head -20 "$tmp/err" >&2; exit 1; } ;;
+        *) echo "FAIL: psim --model $m -n 10 --steps 0:" >&2; head -20 "$tmp/err" >&2; exit 1 ;;
+        esac
+    done
     fails=0
     for r in "${runs[@]}"; do
         for k in 1 2 3; do   # the reuse is timing-dependent: a few tries

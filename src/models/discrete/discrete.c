@@ -219,6 +219,7 @@ static int sort_and_fit(psim_sim *e, dmodel *m, psim_error *err)
 static int interact(psim_sim *e, void *p, psim_error *err)
 {
     dmodel *m = p;
+    PSIM_TIMED(e, PSIM_PHASE_MOVE, discrete_drift(e, m));
     if (discrete_free_flight(e, m)) {
         m->fl.quiet = 1;
         if (m->fl.walls)
@@ -282,11 +283,22 @@ static void step_summary(FILE *f, const psim_stats *st)
 const psim_model psim_model_discrete = {
     .name = "discrete",
     .summary = "CS3210 AY2024/25: move every disk, then resolve collisions to a fixpoint",
-    .phases = {"contacts", "resolve", NULL},
+    .phases = {[DPHASE_CONTACTS - PSIM_PHASE_MODEL] = "contacts",
+               [DPHASE_RESOLVE - PSIM_PHASE_MODEL] = "resolve",
+               [DPHASE_END - PSIM_PHASE_MODEL] = NULL},
     .thermo = {"pair_resolutions", "wall_resolutions", NULL},
-    .counters = {"contacts", "rounds", "max_rounds", "pair_checks", "pair_resolutions",
-                 "wall_resolutions", "tasks", "max_step_resolutions", "search_tests", "regrids",
-                 "tile_cuts", NULL},
+    .counters = {[DC_CONTACTS] = "contacts",
+                 [DC_ROUNDS] = "rounds",
+                 [DC_MAX_ROUNDS] = "max_rounds",
+                 [DC_PAIR_CHECKS] = "pair_checks",
+                 [DC_PAIR_RES] = "pair_resolutions",
+                 [DC_WALL_RES] = "wall_resolutions",
+                 [DC_TASKS] = "tasks",
+                 [DC_MAX_STEP_RES] = "max_step_resolutions",
+                 [DC_SEARCH_TESTS] = "search_tests",
+                 [DC_REGRIDS] = "regrids",
+                 [DC_CUTS] = "tile_cuts",
+                 [DC_END] = NULL},
     .options = {{"settle", "resolutions a step may take per disk before the run stops "
                            "(default 1000)", 1, 1e9, 1},
                 {"simd", "0: contact search without AVX-512 even where the CPU has it "
@@ -306,7 +318,6 @@ const psim_model psim_model_discrete = {
               [DS_WALLS] = {"walls", "no disk could reach a wall"},
               [DS_MOVE] = {"move", "nothing moves"},
               [DS_GRAPH] = {"task_graph", "one thread: resolution tasks run in order"}},
-    .sorts_itself = 1,
     .work_unit = "resolutions",
     .output = {.final = 1},
     .output_digits = -1,
@@ -314,7 +325,6 @@ const psim_model psim_model_discrete = {
     .follows_order = 1,
     .limits = limits,
     .create = create,
-    .drift = discrete_drift,
     .interact = interact,
     .check = discrete_check,
     .destroy = destroy,

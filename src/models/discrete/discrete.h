@@ -1,8 +1,8 @@
 /* The discrete model (NUS CS3210 AY2024/25), internal header.
  *
- * A step: drift every disk by its velocity; the engine sorts; then, with
- * positions frozen, find the contacts (pairs at distance <= 2r) once and
- * resolve collisions to a fixpoint over the contacts only.
+ * A step: drift every disk by its velocity; sort the store by cell; then,
+ * with positions frozen, find the contacts (pairs at distance <= 2r) once
+ * and resolve collisions to a fixpoint over the contacts only.
  *
  * Resolution runs in rounds.  A round runs, for every tile with work, one
  * generation of a first-in first-out worklist over the contacts inside the
@@ -36,10 +36,10 @@
 #include "../../engine/engine.h"
 
 /* The model's own phases and logged quantities (psim_stats). */
-enum { DPHASE_CONTACTS = PSIM_PHASE_MODEL, DPHASE_RESOLVE };
+enum { DPHASE_CONTACTS = PSIM_PHASE_MODEL, DPHASE_RESOLVE, DPHASE_END };
 enum { DC_CONTACTS, DC_ROUNDS, DC_MAX_ROUNDS, DC_PAIR_CHECKS, DC_PAIR_RES,
        DC_WALL_RES, DC_TASKS, DC_MAX_STEP_RES, DC_SEARCH_TESTS, DC_REGRIDS,
-       DC_CUTS };
+       DC_CUTS, DC_END };
 
 /* A contact: disks i < j in store order.  Positions are frozen while
  * collisions are resolved, so dp = p_j - p_i is recomputed from them when
@@ -219,7 +219,7 @@ int discrete_balance(psim_sim *e, dmodel *m);
 int discrete_plan_grid(psim_sim *e, dmodel *m);
 int discrete_regrid(psim_sim *e, dmodel *m);
 /* flight.c: the drift with its extents, and the step's choice. */
-void discrete_drift(psim_sim *e, void *m);
+void discrete_drift(psim_sim *e, dmodel *m);
 /* Returns 1 when no pair can be in contact after this drift (the search
  * is left out), 0 when the search must run. */
 int discrete_free_flight(psim_sim *e, dmodel *m);

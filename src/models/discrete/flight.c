@@ -109,9 +109,8 @@ static void velocity_range(const psim_store *s, long lo, long hi, dextent *x)
     x->nonfinite = bad;
 }
 
-__attribute__((noinline)) void discrete_drift(psim_sim *e, void *p)
+__attribute__((noinline)) void discrete_drift(psim_sim *e, dmodel *m)
 {
-    dmodel *m = p;
     dflight *f = &m->fl;
     if (f->resting)
         return;

@@ -20,9 +20,9 @@
 #include "../../engine/engine.h"
 #include "calendar.h"
 
-enum { EPHASE_EVENTS = PSIM_PHASE_MODEL, EPHASE_SYNC };
-enum { EC_COLLISIONS, EC_WALLS, EC_CROSSINGS, EC_STALE, EC_PREDICTIONS };
-enum { EV_TIME, EV_KINETIC0, EV_KINETIC, EV_VIRIAL, EV_WALL_IMPULSE };
+enum { EPHASE_EVENTS = PSIM_PHASE_MODEL, EPHASE_SYNC, EPHASE_END };
+enum { EC_COLLISIONS, EC_WALLS, EC_CROSSINGS, EC_STALE, EC_PREDICTIONS, EC_END };
+enum { EV_TIME, EV_KINETIC0, EV_KINETIC, EV_VIRIAL, EV_WALL_IMPULSE, EV_END };
 
 /* A disk at its own time t, in one cache line: a prediction reads the
  * whole of each partner. */

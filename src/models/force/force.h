@@ -24,8 +24,9 @@
 #include "../../engine/nearest.h"
 #include "law.h"
 
-enum { FPHASE_NLIST = PSIM_PHASE_MODEL, FPHASE_FORCE, FPHASE_INTEGRATE };
-enum { FC_PAIR_TESTS, FC_INTERACTIONS, FC_REBUILDS, FC_LIST_ENTRIES, FC_TASKS, FC_SORTED };
+enum { FPHASE_NLIST = PSIM_PHASE_MODEL, FPHASE_FORCE, FPHASE_INTEGRATE, FPHASE_END };
+enum { FC_PAIR_TESTS, FC_INTERACTIONS, FC_REBUILDS, FC_LIST_ENTRIES, FC_TASKS, FC_SORTED,
+       FC_END };
 /* Stages left out where the scene cannot use them (force.c, step.c). */
 enum { FS_MOVE, FS_WALLS, FS_GRAPH, FS_LISTS };
 /* How a step's two rounds (every tile's forces, then every tile's sums
