@@ -15,10 +15,11 @@
 
 #include "../../engine/engine.h"
 
-/* Its phases are numbered from PSIM_PHASE_MODEL, its counters from 0, in
- * the order of .phases and .counters below. */
-enum { BPHASE_FLIGHT = PSIM_PHASE_MODEL };
-enum { BC_REVERSALS };
+/* Its phases are numbered from PSIM_PHASE_MODEL, its counters from 0;
+ * .phases and .counters below name each by its constant, and the _END
+ * constant marks where the names end. */
+enum { BPHASE_FLIGHT = PSIM_PHASE_MODEL, BPHASE_END };
+enum { BC_REVERSALS, BC_END };
 
 /* What create makes, interact uses and destroy frees. */
 typedef struct bmodel {
@@ -126,8 +127,9 @@ static void destroy(void *p) { free(p); }
 const psim_model psim_model_ballistic = {
     .name = "ballistic",
     .summary = "free flight between reflecting walls, no interactions (the example model)",
-    .phases = {"flight", NULL},
-    .counters = {"reversals", NULL},
+    .phases = {[BPHASE_FLIGHT - PSIM_PHASE_MODEL] = "flight",
+               [BPHASE_END - PSIM_PHASE_MODEL] = NULL},
+    .counters = {[BC_REVERSALS] = "reversals", [BC_END] = NULL},
     .thermo = {"reversals", NULL},
     .options = {{"dt", "time a step advances, velocities being per unit time (default 1)",
                  0, 1, 0},
