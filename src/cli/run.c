@@ -10,6 +10,11 @@
 #include <sys/stat.h>
 
 #include "cli.h"
+#include "measure.h"
+#include "options.h"
+#include "progress.h"
+#include "provenance.h"
+#include "version.h"
 #include "../io/scene.h"
 #include "../engine/timer.h"
 
