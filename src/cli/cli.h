@@ -45,9 +45,6 @@ int cli_with_start_cpus(int (*fn)(void *), void *ctx);
 #define CLI_EARLY __attribute__((no_sanitize("address", "thread", "undefined")))
 CLI_EARLY char *cli_early_put_long(char *p, long v);
 CLI_EARLY ssize_t cli_early_read(const char *path, char *buf, size_t size);
-/* The run's options, for parse_run and the start's reading of them. */
-extern const struct option cli_run_longs[];
-extern const char cli_run_shorts[];
 
 /* Threads (threads.c): the count asked, capped by the OpenMP thread limit
  * (OMP_THREAD_LIMIT; cli_threads_note then says so, else NULL); and, under
