@@ -33,6 +33,7 @@
 #include <unistd.h>
 
 #include "cli.h"
+#include "run_options.h"
 
 
 static cpu_set_t start_cpus;   /* the mask psim was started with */

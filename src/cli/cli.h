@@ -16,8 +16,6 @@ int cli_run(int argc, char **argv);   /* psim [OPTIONS] [SCENE [THREADS]] */
 int cli_gen(int argc, char **argv);   /* psim gen [OPTIONS] */
 int cli_plan(int argc, char **argv);  /* psim plan | psim topo */
 int cli_models(int argc, char **argv); /* psim models */
-/* --version of psim and of every subcommand (release, git commit, build) */
-void cli_version(FILE *f);
 
 /* The most threads psim runs (--threads, THREADS, OMP_NUM_THREADS). */
 #define CLI_MAX_THREADS 4096
@@ -47,12 +45,6 @@ int cli_with_start_cpus(int (*fn)(void *), void *ctx);
 #define CLI_EARLY __attribute__((no_sanitize("address", "thread", "undefined")))
 CLI_EARLY char *cli_early_put_long(char *p, long v);
 CLI_EARLY ssize_t cli_early_read(const char *path, char *buf, size_t size);
-/* The command line as given (getopt permutes main's argv), for the
- * provenance of --stats. */
-void cli_set_argv(char **argv);
-/* The run's options, for parse_run and the start's reading of them. */
-extern const struct option cli_run_longs[];
-extern const char cli_run_shorts[];
 
 /* Threads (threads.c): the count asked, capped by the OpenMP thread limit
  * (OMP_THREAD_LIMIT; cli_threads_note then says so, else NULL); and, under
@@ -73,16 +65,6 @@ int cli_threads_startable(int threads);
 void cli_err(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 size_t cli_escape(char *dst, size_t cap, const char *src);
 char *cli_shown(const char *name);
-
-/* Strict number parsing for option values: print one error line and
- * return -1 when text is not a number in [lo, hi]. */
-int cli_long(const char *opt, const char *text, long lo, long hi, long *out);
-int cli_double(const char *opt, const char *text, double lo, double hi,
-               double *out);
-/* One error line for an option getopt_long refused (c is what it
- * returned: ':' for a missing value, '?' otherwise); cmd is NULL or the
- * subcommand. */
-void cli_bad_option(const char *cmd, char **argv, int c);
 
 /* An output file that appears only when complete.  A regular file (or a
  * path that does not exist yet; a symbolic link is followed) is written to
@@ -136,27 +118,6 @@ typedef struct cli_path {
 int cli_check_paths(const char *who, const cli_path *in, int nin, const cli_path *out,
                     int nout);
 
-/* Progress on stderr after ~1 s: a bar on a terminal; elsewhere (batch
- * jobs, logs) a line every PROGRESS_LINE_S seconds. */
-#define PROGRESS_LINE_S 10.0
-typedef struct progress {
-    int enabled, tty, shown;
-    int inside_only;    /* only inside long steps (a --thermo table shows the rest) */
-    int width;          /* the widest bar drawn */
-    double start, last, every;
-    long total;
-} progress;
-
-void progress_init(progress *p, long total, int quiet);
-void progress_update(progress *p, long done);
-void progress_done(progress *p);
-/* Inside a step that has run PROGRESS_LINE_S seconds (psim_set_step_progress,
- * with the times of progress_inside_times): "psim: step 2 of 5: 3.2e9
- * events so far, 40 s in this step" every PROGRESS_LINE_S seconds, or the
- * bar on a terminal; done is the step's number in the run. */
-void progress_inside(progress *p, long done, const psim_step_progress *r);
-void progress_inside_times(const progress *p, double *first_s, double *every_s);
-
 /* SIGINT and SIGTERM (interrupt.c).  cli_interrupt_start, first thing in
  * main, blocks them in every thread psim will start; cli_interrupt_watch
  * hands them to a thread of their own that waits for them (sigwait),
@@ -186,20 +147,6 @@ const char *cli_interrupt_name(void);   /* "SIGINT", "SIGTERM" */
 void cli_remove_temps(void);
 void cli_interrupt_raise(void);     /* end by it, if one asked */
 
-/* Where a run stands at its start, for the provenance of --stats. */
-typedef struct cli_start {
-    time_t date;
-    double load[3];         /* the load averages, over 1, 5 and 15 minutes */
-    int load_ok;
-} cli_start;
-void cli_start_note(cli_start *st);
-/* The "provenance" member of --stats (malloc'd; NULL without memory): the
- * version, git commit and build options (as --version gives them), the
- * host's name and CPU model, the date the run started (ISO 8601, UTC),
- * the command line, and the load averages at the start and now (a shared
- * machine's load is what makes timings differ). */
-char *cli_provenance_json(const cli_start *st);
-
 /* --thermo N and --thermo-file (thermo.c): rows at the start, every
  * `every` steps and after the last step; the table to `table` (NULL: none),
  * CSV to `csv` (NULL: none).  With speed (--thermo-speed), a last column
@@ -227,22 +174,6 @@ int thermo_start(cli_thermo *t, psim_sim *s, FILE *table, FILE *csv, psim_error 
 int thermo_step(cli_thermo *t, psim_sim *s, long k, long steps, psim_error *err);
 /* Whether step k of steps has a row. */
 int thermo_due(const cli_thermo *t, long k, long steps);
-
-/* The same progress for one read or write that takes more than a second
- * (psim_set_io_progress): on a terminal the bar, "[####  ] reading s.in:
- * 412/850 MB, 2.1 s left", cleared by cli_io_end; elsewhere a line every
- * PROGRESS_LINE_S seconds; nothing under -q. */
-void cli_io_begin(const char *verb, const char *name, int quiet);
-void cli_io_end(void);
-
-/* The output phase around a write: cli_output_begin opens its LIKWID
- * region (src/engine/timer.h) and returns the time it began, which
- * cli_output_end adds to the phase before it closes the region. */
-double cli_output_begin(const psim_sim *s);
-void cli_output_end(psim_sim *s, double t0);
-
-/* The process's peak resident memory in bytes (VmHWM; 0 if unknown). */
-long long cli_peak_rss(void);
 
 /* Pinning options shared by the run and plan commands. */
 enum { CLI_OPT_PIN = 1000, CLI_OPT_TOPOLOGY, CLI_OPT_MEM, CLI_OPT_DRY_RUN };

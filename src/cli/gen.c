@@ -5,6 +5,9 @@
 #include <string.h>
 
 #include "cli.h"
+#include "options.h"
+#include "progress.h"
+#include "version.h"
 #include "../io/scene.h"
 
 static void gen_usage(FILE *f)

@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "cli.h"
+#include "provenance.h"
 
 static int command(int argc, char **argv)
 {

@@ -7,6 +7,8 @@
 #include <omp.h>
 
 #include "cli.h"
+#include "options.h"
+#include "version.h"
 #include "psim/topology.h"
 
 struct topo_load {

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "measure.h"
 #include "../engine/timer.h"
 
 void thermo_init(cli_thermo *t, long every, int speed)

@@ -13,6 +13,7 @@
 #include <omp.h>
 
 #include "cli.h"
+#include "options.h"
 
 static char note[160];
 
@@ -116,4 +117,20 @@ int cli_threads_startable(int threads)
     cli_err("psim: cannot start %d threads (%d started): %s%s", threads, started,
             strerror(err), lim);
     return -1;
+}
+
+int cli_env_threads(void)
+{
+    const char *v = getenv("OMP_NUM_THREADS");
+    if (!v)
+        return 0;
+    size_t len = strcspn(v, ",");
+    if (len > 20) {
+        cli_err("psim: OMP_NUM_THREADS: expected an integer, got '%.40s'", v);
+        return -1;
+    }
+    char first[24];
+    long t;
+    snprintf(first, sizeof first, "%.*s", (int)len, v);
+    return cli_long("OMP_NUM_THREADS", first, 1, CLI_MAX_THREADS, &t);
 }

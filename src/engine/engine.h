@@ -5,6 +5,7 @@
 #define PSIM_ENGINE_ENGINE_H
 
 #include "../io/scene.h"
+#include "../io/xyz.h"
 #include "grid.h"
 #include "sort.h"
 #include "store.h"

@@ -16,6 +16,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "psim/psim.h"
+
 #ifdef PSIM_USE_JEMALLOC
 #include <dlfcn.h>
 #include <jemalloc/jemalloc.h>
@@ -108,3 +110,5 @@ int psim_reserve(void **p, size_t *cap, size_t need, size_t elem)
 }
 
 const char *psim_allocator_name(void) { return jemalloc_serves() ? "jemalloc" : "libc"; }
+
+const char *psim_allocator(void) { return psim_allocator_name(); }

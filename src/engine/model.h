@@ -24,6 +24,8 @@
 
 #include "../io/scene.h"
 #include "../io/fmt.h"
+#include "../io/lines.h"
+#include "../io/state_write.h"
 
 struct psim_sim;
 

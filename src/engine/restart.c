@@ -14,6 +14,7 @@
 #include "engine.h"
 #include "mem.h"
 #include "../io/fmt.h"
+#include "../io/lines.h"
 #include "../io/restart.h"
 
 /* The model's columns in sc, each value of its column's kind and range

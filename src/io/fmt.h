@@ -49,39 +49,8 @@ const char *psim_scan_double(const char *s, double *out);
  * must be readable (the scene reader's buffer has room there). */
 const char *psim_scan_double_padded(const char *s, double *out);
 
-/* Tests: the scene reader's block size and smallest piece per thread
- * (0: the defaults, 8 MiB and 64 KiB). */
-void psim_io_set_blocks(size_t block, size_t piece);
-
 /* PSIM_SLOW_IO=1 in the environment: the plain code paths (snprintf and
  * fprintf, strtod line by line), for tests that compare the bytes. */
 int psim_io_slow(void);
-
-/* Write n lines, line i made by fn into a buffer of at least line_max
- * bytes (returning its length), to f in order.  Lines are made in chunks
- * by `threads` OpenMP threads and written in order, so the bytes do not
- * depend on the thread count.  0, or -1 when a write failed. */
-typedef size_t (*psim_line_fn)(char *out, long i, const void *ctx);
-int psim_write_lines(FILE *f, long n, int threads, size_t line_max, psim_line_fn fn,
-                     const void *ctx);
-
-/* The state's columns: particle i (by id) is at[i] in the arrays, or i
- * when at is NULL. */
-typedef struct psim_cols {
-    const double *x, *y, *vx, *vy;
-    const int32_t *at;
-} psim_cols;
-/* Lines "STEP i x y vx vy" in id order, as psim_write_state, by `threads`
- * threads. */
-int psim_write_state_cols(FILE *f, long step, long n, const psim_cols *c, int digits,
-                          int threads);
-
-/* One extended XYZ frame of the columns after `step` steps, at model time
- * `time` (xyz.c; psim_write_dump). */
-int psim_write_xyz_cols(FILE *f, long step, double time, long n, double L, double r,
-                        const psim_cols *c, int threads);
-
-/* Progress of long reads and writes (psim_set_io_progress in psim.h). */
-void psim_io_progress(int writing, long long done, long long total);
 
 #endif

@@ -10,9 +10,7 @@
 #include <stdio.h>
 
 #include "psim/psim.h"
-
-void psim_error_set(psim_error *err, const char *fmt, ...)
-    __attribute__((format(printf, 2, 3)));
+#include "base/error.h"
 
 /* What a restart file (--restart) adds to a scene: its first line,
  * "#psim restart 1 KEY=VALUE ...", names the model and the steps done, the

@@ -28,6 +28,7 @@
 #include <omp.h>
 
 #include "fmt.h"
+#include "lines.h"
 #include "restart.h"
 #include "scene_read.h"
 #include "scene.h"

@@ -13,4 +13,8 @@ int psim_io_scene_read(const char *path, psim_restart_schema_fn schema, psim_sce
 int psim_io_scene_read_stream(FILE *f, const char *name, psim_restart_schema_fn schema,
                               psim_scene *sc, psim_error *err);
 
+/* Tests: the scene reader's block size and smallest piece per thread
+ * (0: the defaults, 8 MiB and 64 KiB). */
+void psim_io_set_blocks(size_t block, size_t piece);
+
 #endif

@@ -9,7 +9,9 @@
 #include <stdio.h>
 
 #include "fmt.h"
+#include "lines.h"
 #include "scene.h"
+#include "xyz.h"
 
 typedef struct xyz_ctx {
     const psim_cols *c;

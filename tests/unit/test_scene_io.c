@@ -9,6 +9,7 @@
 #include "check.h"
 #include "io/fmt.h"
 #include "io/scene.h"
+#include "io/scene_read.h"
 
 static int read_text(const char *text, psim_scene *sc, psim_error *err)
 {

@@ -10,7 +10,9 @@
 #include <omp.h>
 
 #include "fmt.h"
+#include "lines.h"
 #include "scene.h"
+#include "state_write.h"
 
 int psim_format_double(char *buf, double v, int digits)
 {

@@ -9,7 +9,7 @@
 #include <hwloc.h>
 #include <omp.h>
 
-#include "../io/scene.h"
+#include "base/error.h"
 
 #define MAX_KINDS 16
 
