@@ -8,7 +8,8 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "cli.h"
+#include "interrupt.h"
+#include "outfile.h"
 #include "../io/scene.h"
 
 static const int stops[] = {SIGINT, SIGTERM};

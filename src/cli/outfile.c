@@ -13,7 +13,9 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "cli.h"
+#include "outfile.h"
+#include "paths.h"
+#include "say.h"
 
 /* Named temporary files (the fallback's, and an unnamed file's name for
  * the moment between its link and the rename over the old file) to
