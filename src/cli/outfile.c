@@ -1,4 +1,4 @@
-/* Output files that appear only when whole (cli.h): an unnamed file in
+/* Output files that appear only when whole (outfile.h): an unnamed file in
  * the output's folder (O_TMPFILE), linked into place at the commit, so
  * that nothing is left whatever ends the process; where the file system
  * or /proc does not allow that, a hidden temporary file beside it,
