@@ -32,8 +32,11 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "cli.h"
+#include "affinity.h"
+#include "pin.h"
 #include "run_options.h"
+#include "startup.h"
+#include "threads.h"
 
 
 static cpu_set_t start_cpus;   /* the mask psim was started with */

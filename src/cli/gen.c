@@ -6,7 +6,9 @@
 
 #include "cli.h"
 #include "options.h"
+#include "outfile.h"
 #include "progress.h"
+#include "say.h"
 #include "version.h"
 #include "../io/scene.h"
 

@@ -1,4 +1,4 @@
-/* SIGINT and SIGTERM: taken by a thread of their own (cli.h).  While a
+/* SIGINT and SIGTERM: taken by a thread of their own (interrupt.h).  While a
  * run steps, the first is a request to stop: the run stops at its next
  * poll (src/engine/poll.h), fails with one line, removes its temporary
  * outputs as any failed run does, and psim then ends by the signal. */
@@ -8,7 +8,8 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "cli.h"
+#include "interrupt.h"
+#include "outfile.h"
 #include "../io/scene.h"
 
 static const int stops[] = {SIGINT, SIGTERM};

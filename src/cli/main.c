@@ -10,7 +10,10 @@
 #include <unistd.h>
 
 #include "cli.h"
+#include "interrupt.h"
 #include "provenance.h"
+#include "say.h"
+#include "threads.h"
 
 static int command(int argc, char **argv)
 {

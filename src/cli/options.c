@@ -7,8 +7,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "cli.h"
 #include "options.h"
+#include "say.h"
 
 int cli_long(const char *opt, const char *text, long lo, long hi, long *out)
 {

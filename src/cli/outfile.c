@@ -1,4 +1,4 @@
-/* Output files that appear only when whole (cli.h): an unnamed file in
+/* Output files that appear only when whole (outfile.h): an unnamed file in
  * the output's folder (O_TMPFILE), linked into place at the commit, so
  * that nothing is left whatever ends the process; where the file system
  * or /proc does not allow that, a hidden temporary file beside it,
@@ -13,7 +13,9 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "cli.h"
+#include "outfile.h"
+#include "paths.h"
+#include "say.h"
 
 /* Named temporary files (the fallback's, and an unnamed file's name for
  * the moment between its link and the rename over the old file) to

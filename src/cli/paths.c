@@ -9,7 +9,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "cli.h"
+#include "paths.h"
+#include "say.h"
 
 /* Where a symbolic link points, as a path from the link's folder; NULL
  * when path is not a link. */

@@ -6,8 +6,13 @@
 
 #include <omp.h>
 
+#include "affinity.h"
 #include "cli.h"
 #include "options.h"
+#include "paths.h"
+#include "pin.h"
+#include "say.h"
+#include "threads.h"
 #include "version.h"
 #include "psim/topology.h"
 

@@ -6,8 +6,8 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "cli.h"
 #include "progress.h"
+#include "say.h"
 #include "../engine/timer.h"
 
 void progress_init(progress *p, long total, int quiet)

@@ -3,7 +3,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "cli.h"
+#include "pin.h"
+#include "report.h"
 
 static const char *kind_of(const cli_pin *p, int cpu)
 {

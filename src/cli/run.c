@@ -7,11 +7,19 @@
 #include <omp.h>
 #include <sys/stat.h>
 
+#include "affinity.h"
 #include "cli.h"
+#include "interrupt.h"
 #include "measure.h"
+#include "outfile.h"
+#include "pin.h"
 #include "progress.h"
 #include "provenance.h"
+#include "report.h"
 #include "run_options.h"
+#include "say.h"
+#include "thermo.h"
+#include "threads.h"
 #include "version.h"
 #include "../io/scene.h"
 #include "../engine/timer.h"

@@ -5,9 +5,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "cli.h"
 #include "options.h"
+#include "paths.h"
+#include "pin.h"
 #include "run_options.h"
+#include "say.h"
+#include "threads.h"
 #include "version.h"
 
 void output_paths(const run_opts *o, const char **p)

@@ -4,7 +4,7 @@
 #include <getopt.h>
 #include <sys/stat.h>
 
-#include "cli.h"
+#include "pin.h"
 
 typedef struct run_opts {
     const char *scene, *out, *trace, *final, *stats, *model, *thermo_file, *dump, *restart;

@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "cli.h"
+#include "say.h"
 
 /* The length of the UTF-8 sequence at s (at most n bytes) that may be
  * shown as it is: a printable ASCII byte or a valid multi-byte sequence

@@ -17,7 +17,7 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
-#include "cli.h"
+#include "startup.h"
 
 /* What psim needs mapped to start and run a small scene, beyond what the
  * program and its libraries already map when this runs (measured: the

@@ -6,8 +6,9 @@
 #include <math.h>
 #include <string.h>
 
-#include "cli.h"
 #include "measure.h"
+#include "thermo.h"
+#include "../base/error.h"
 #include "../engine/timer.h"
 
 void thermo_init(cli_thermo *t, long every, int speed)

@@ -12,8 +12,9 @@
 
 #include <omp.h>
 
-#include "cli.h"
 #include "options.h"
+#include "say.h"
+#include "threads.h"
 
 static char note[160];
 

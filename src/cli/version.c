@@ -1,3 +1,4 @@
+/* psim --version (version.h). */
 #include <stdio.h>
 
 #include <hwloc.h>

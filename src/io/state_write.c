@@ -1,6 +1,6 @@
 /* Text output of numbers and states.  Numbers are made by the exact fast
  * conversions of fmt.c, lines in parallel chunks written in order
- * (psim_write_lines); PSIM_SLOW_IO=1 keeps the old fprintf code paths,
+ * (psim_write_lines, lines.c); PSIM_SLOW_IO=1 keeps the old fprintf code paths,
  * the reference the tests compare the bytes with. */
 #include <math.h>
 #include <stdio.h>
