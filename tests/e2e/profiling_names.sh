@@ -11,6 +11,11 @@
 # NAME.part.0, NAME.cold); an OpenMP outlined body is named in full
 # (NAME._omp_fn.N).  Static functions are local symbols that nm lists as
 # long as the binary is not stripped.
+#
+# The names are GCC's (the default build's compiler; clang names its
+# outlined bodies otherwise and inlines other static functions).  So
+# every name must be a function defined in src/, in any build, and a
+# symbol of psim where psim --version says GCC built it.
 set -euo pipefail
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 source "$(dirname "$0")/lib.sh" "$@"
@@ -18,6 +23,11 @@ source "$(dirname "$0")/lib.sh" "$@"
 doc="$(dirname "$0")/../../docs/profiling.md"
 [[ -r $doc ]] || fail "cannot read $doc"
 command -v nm >/dev/null || fail "nm (binutils) is not installed"
+
+src="$(dirname "$0")/../../src"
+[[ -d $src ]] || fail "cannot find the source folder $src"
+compiler=$("$PSIM" --version | sed -n 's/^built: [^,]*, \([A-Za-z]*\) .*/\1/p')
+[[ -n $compiler ]] || fail "psim --version names no compiler on its built: line"
 
 nm "$PSIM" 2>"$tmp/nm.err" | awk 'NF >= 3 && $2 ~ /^[TtWw]$/ {print $3}' | sort -u >"$tmp/symbols" ||
     fail "nm failed on $PSIM: $(cat "$tmp/nm.err")"
@@ -67,6 +77,15 @@ missing=0
 while IFS= read -r name; do
     [[ $name =~ ^[A-Za-z_][A-Za-z0-9_]*(\._omp_fn\.[0-9]+)?$ ]] ||
         { echo "FAIL: $doc names \`$name\`, which is not a function name" >&2; missing=$((missing + 1)); continue; }
+    base=${name%%._omp_fn.*}
+    # defined at file scope in a .c file of src/ (a definition's line is
+    # not indented, has the name before its parenthesis and no semicolon)
+    if ! grep -rqE --include='*.c' "^([A-Za-z_].*[^A-Za-z0-9_])?${base}\\([^;]*$" "$src"; then
+        echo "FAIL: $doc names \`$name\`, but no function ${base} is defined in src/" >&2
+        missing=$((missing + 1))
+        continue
+    fi
+    [[ $compiler == GNU ]] || continue   # the symbols are GCC's
     if grep -qxF -- "$name" "$tmp/symbols"; then
         continue
     fi
@@ -80,4 +99,4 @@ while IFS= read -r name; do
 done <"$tmp/names"
 ((missing == 0)) || fail "$missing function name(s) of docs/profiling.md's profile tables are not in the build"
 
-echo "profiling_names: ok ($count names in $tables tables)"
+echo "profiling_names: ok ($count names in $tables tables; symbols checked: $([[ $compiler == GNU ]] && echo yes || echo "no, built by $compiler"))"
