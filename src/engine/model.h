@@ -10,9 +10,9 @@
  * counted; with --check, check comparing the state before and after.
  * interact times its own phases (named in phases[], numbered from
  * PSIM_PHASE_MODEL) and may time its moves as the engine's "move" phase
- * (PSIM_PHASE_MOVE); it adds to its counters (named in counters[]).  Every loop of interact that can run
- * long polls (poll.h): progress, and a stop asked by a signal, inside the
- * step.
+ * (PSIM_PHASE_MOVE); it adds to its counters (named in counters[]).
+ * Every loop of interact that can run long polls (poll.h): progress, and
+ * a stop asked by a signal, inside the step.
  *
  * The grid (psim_engine_grid and the calls after it) and the sort by cell
  * (psim_engine_sort) are services a model calls: the engine plans no grid
