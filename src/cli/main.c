@@ -14,6 +14,7 @@
 #include "provenance.h"
 #include "say.h"
 #include "threads.h"
+#include "../engine/dist.h"
 
 static int command(int argc, char **argv)
 {
@@ -66,7 +67,14 @@ int main(int argc, char **argv)
     if (cli_env_threads())
         return 2;
     cli_set_argv(argv);
+    /* MPI, when a launcher started psim (src/engine/dist.h) */
+    psim_error err = {{0}, 0};
+    if (psim_dist_start(&argc, &argv, &err) < 0) {
+        cli_err("psim: %s", err.msg);
+        return 2;
+    }
     int rc = command(argc, argv);
+    psim_dist_finish();
     if ((fflush(stdout) != 0 || ferror(stdout)) && rc == 0) {
         cli_err("psim: <stdout>: write failed: %s", strerror(errno ? errno : EIO));
         rc = 1;

@@ -22,6 +22,7 @@
 #include "threads.h"
 #include "version.h"
 #include "../io/scene.h"
+#include "../engine/dist.h"
 #include "../engine/timer.h"
 
 static int default_scene(psim_scene *sc, psim_error *err)
@@ -184,8 +185,11 @@ static int open_outputs(const run_opts *o, run_state *rs, const char *model)
             return 2;
         path[0] = "-";
     }
+    /* over ranks rank 0 writes every file (dist.h), the others take
+     * part in each write without writing */
+    const int writer = psim_dist_rank() == 0;
     for (int k = 0; k < RUN_OUTPUTS; k++)
-        if (path[k] && outfile_open(of[k], path[k]))
+        if (path[k] && outfile_open(of[k], writer ? path[k] : "/dev/null"))
             return 1;
     return 0;
 }
@@ -211,6 +215,10 @@ static int out_due(const run_state *rs, long k, long last)
 /* "NAME: write failed: REASON", the reason from errno (EIO if none). */
 static void set_write_failed(psim_error *err, const char *name)
 {
+    if (psim_dist_rank() != 0) {   /* rank 0 writes, and says why it failed */
+        psim_error_set(err, "%s", "");
+        return;
+    }
     int e = errno ? errno : EIO;
     psim_error_set(err, "%s: write failed: %s", name, strerror(e));
 }
@@ -440,6 +448,81 @@ static void start_threads(void)
     cli_interrupt_watch();
 }
 
+/* Over ranks: whether a step of the start that some rank failed (rc)
+ * failed on any; the lowest rank that failed says why (msg), the others
+ * keep quiet.  Without ranks: rc, said. */
+static int ranks_failed(int rc, const char *msg)
+{
+    int low = psim_dist_agree(rc != 0);
+    if (low >= 0 && low == psim_dist_rank() && msg && *msg)
+        cli_err("psim: %s", msg);
+    return low >= 0;
+}
+
+/* What a run over ranks cannot do yet: 0, or 2 after saying so (rank 0). */
+static int ranks_refuse(const run_opts *o)
+{
+    const char *what = o->thermo || o->thermo_file ? "--thermo"
+                       : o->scene && strcmp(o->scene, "-") == 0 ? "a scene on standard input"
+                                                                 : NULL;
+    if (!what || psim_dist_ranks() < 2)
+        return 0;
+    if (psim_dist_rank() == 0)
+        cli_err("psim: %s: not over MPI ranks (run it in one process)", what);
+    return 2;
+}
+
+/* The figures of every rank, as --stats JSON members (rank 0). */
+static char *ranks_json(const psim_sim *s, const psim_rank_stats *per, int n)
+{
+    char *buf = NULL;
+    size_t len = 0;
+    FILE *f = open_memstream(&buf, &len);
+    if (!f)
+        return NULL;
+    const psim_stats *st = psim_get_stats(s);
+    double most = 0, sum = 0;
+    for (int q = 0; q < n; q++) {
+        double busy = 0;
+        for (int p = 0; p < st->nphases; p++)
+            busy += per[q].phase_s[p];
+        most = busy > most ? busy : most, sum += busy;
+    }
+    fprintf(f, "  \"ranks\": %d,\n  \"imbalance\": %.4f,\n  \"per_rank\": [", n,
+            sum > 0 ? most / (sum / n) : 1.0);
+    for (int q = 0; q < n; q++) {
+        const psim_rank_stats *r = &per[q];
+        fprintf(f, "%s\n    {\"rank\": %d, \"threads\": %d, \"owned\": %ld, \"ghosts\": %ld, "
+                   "\"comm_s\": %.6f, \"bytes_sent\": %llu, \"messages_sent\": %llu, "
+                   "\"exchanges\": %llu, \"recuts\": %llu, \"phases_s\": {",
+                q ? "," : "", q, st->threads, r->owned, r->ghosts, r->comm_s,
+                (unsigned long long)r->bytes_sent, (unsigned long long)r->messages_sent,
+                (unsigned long long)r->exchanges, (unsigned long long)r->recuts);
+        for (int p = 0; p < st->nphases; p++)
+            fprintf(f, "%s\"%s\": %.6f", p ? ", " : "", st->phase_name[p], r->phase_s[p]);
+        fprintf(f, "}}");
+    }
+    fprintf(f, "\n  ]");
+    return fclose(f) ? (free(buf), NULL) : buf;
+}
+
+/* The summary's lines for ranks: each rank's share, time and traffic. */
+static void ranks_summary(FILE *f, const psim_sim *s, const psim_rank_stats *per, int n)
+{
+    const psim_stats *st = psim_get_stats(s);
+    fprintf(f, "  %d MPI ranks x %d threads:\n", n, st->threads);
+    for (int q = 0; q < n; q++) {
+        double busy = 0;
+        for (int p = 0; p < st->nphases; p++)
+            busy += per[q].phase_s[p];
+        fprintf(f, "    rank %d: %ld disks + %ld ghosts, %.3f s in phases (comm %.3f s), "
+                   "%.1f MB in %llu messages sent, %llu exchanges\n",
+                q, per[q].owned, per[q].ghosts, busy, per[q].comm_s,
+                (double)per[q].bytes_sent / 1e6, (unsigned long long)per[q].messages_sent,
+                (unsigned long long)per[q].exchanges);
+    }
+}
+
 int cli_run(int argc, char **argv)
 {
     run_opts o;
@@ -450,6 +533,14 @@ int cli_run(int argc, char **argv)
         free(o.options);
         return rc < 0 ? 0 : rc;   /* -1: --help or --version, done */
     }
+    if ((rc = ranks_refuse(&o)) != 0) {
+        free(o.options);
+        return rc;
+    }
+    const int ranks = psim_dist_ranks();
+    psim_rank_stats *per = NULL;
+    if (psim_dist_rank() != 0)   /* rank 0 speaks for the run */
+        o.quiet = 1, o.report = 0;
     psim_error err = {{0}, 0};
     psim_scene sc = {0};
     run_state rs = {0};
@@ -479,9 +570,9 @@ int cli_run(int argc, char **argv)
         omp_set_num_threads((int)o.threads);
     start_threads();
     double t_read = psim_now();
-    if (load_scene(&o, &sc, &err)) {
-        cli_err("psim: %s", err.msg);
-        rc = err.usage ? 2 : 1;
+    int failed = load_scene(&o, &sc, &err);
+    if (ranks_failed(failed, err.msg)) {
+        rc = failed && err.usage ? 2 : 1;
         goto done;
     }
     o.read_s = psim_now() - t_read;
@@ -509,9 +600,8 @@ int cli_run(int argc, char **argv)
      * again for it. */
     const int keep_scene = o.scene && !rereadable(&o);
     s = keep_scene ? psim_create(&sc, &cfg, &err) : psim_create_taking(&sc, &cfg, &err);
-    if (!s) {
-        cli_err("psim: %s", err.msg);
-        rc = err.usage ? 2 : 1;
+    if (ranks_failed(!s, err.msg)) {
+        rc = !s && err.usage ? 2 : 1;
         goto done;
     }
     /* and the line numbers go too (8 bytes a particle), now that the
@@ -522,15 +612,16 @@ int cli_run(int argc, char **argv)
     rs.print = rs.style.every_step && sc.print;
     thermo_init(&rs.th, o.thermo, o.thermo_speed);
     int opened = open_outputs(&o, &rs, psim_sim_model(s));
-    if (opened) {
-        rc = opened;
+    if (ranks_failed(opened, NULL)) {   /* (outfile_open said why) */
+        rc = opened ? opened : 1;
         goto done;
     }
     double t0 = psim_now();
     int ran = simulate(&o, s, &sc, &cfg, steps, &rs, &err);
-    if (ran == -2)   /* and psim ends by the signal (main) */
+    /* (over ranks, a rank that did not fail itself has no message) */
+    if (ran == -2 && (psim_dist_rank() == 0 || ranks == 1))   /* and psim ends by the signal (main) */
         cli_err("psim: %s: %s by %s", o.label, err.msg, cli_interrupt_name());
-    else if (ran)
+    else if (ran && ran != -2 && *err.msg)
         cli_err("psim: %s: %s", o.label, err.msg);
     if (ran)
         goto done;
@@ -554,16 +645,24 @@ int cli_run(int argc, char **argv)
         cli_err("psim: %s", err.msg);
         goto done;
     }
+    if (ranks > 1) {   /* every rank's figures to rank 0 */
+        if (psim_dist_rank() == 0 && !(per = calloc((size_t)ranks, sizeof *per))) {
+            cli_err("psim: out of memory");
+            psim_dist_abort(1);
+        }
+        psim_dist_reduce_stats(s, per);
+    }
     if ((o.report || o.stats) && !o.pin.topo)
         o.pin.topo = psim_topo_load(NULL, &err); /* for the CPU kinds; may fail */
     if (rs.stats.f) {
         char *pin_json = cli_pin_json(&o.pin), *thr_json = cli_threads_json(s, &o.pin),
              *prov_json = cli_provenance_json(&start);
-        char *extra = NULL;
-        if (pin_json && thr_json && prov_json &&
-            asprintf(&extra, "  \"read_s\": %.6f,\n  \"peak_rss_bytes\": %lld,\n%s,\n%s,\n%s\n",
-                     o.read_s, cli_peak_rss(), pin_json, thr_json, prov_json) < 0)
+        char *extra = NULL, *rk_json = per ? ranks_json(s, per, ranks) : strdup("  \"ranks\": 1");
+        if (pin_json && thr_json && prov_json && rk_json &&
+            asprintf(&extra, "  \"read_s\": %.6f,\n  \"peak_rss_bytes\": %lld,\n%s,\n%s,\n%s,\n%s\n",
+                     o.read_s, cli_peak_rss(), pin_json, thr_json, prov_json, rk_json) < 0)
             extra = NULL;
+        free(rk_json);
         psim_write_stats_json(rs.stats.f, s,
                               o.scene ? o.scene : o.n >= 0 ? o.label : "default", secs, extra);
         free(pin_json), free(thr_json), free(prov_json), free(extra);
@@ -575,17 +674,20 @@ int cli_run(int argc, char **argv)
     for (int k = 0; k < RUN_OUTPUTS; k++)
         if (on_stdout(outs[k]))
             info = stderr;
-    if (outfile_commit_all(outs, RUN_OUTPUTS))
+    if (ranks_failed(outfile_commit_all(outs, RUN_OUTPUTS), NULL))
         goto done;
     if (!o.quiet) {
         psim_print_source_summary(info, s, loop_s);
         print_summary(info, &o, &sc, s, secs);
+        if (per)
+            ranks_summary(info, s, per, ranks);
         cli_pin_summary(info, &o.pin, s);
     }
     if (o.report)
         cli_report(info, s, &o.pin);
     rc = 0;   /* main reports a standard output that could not be written */
 done:
+    free(per);
     psim_markers_close();
     abort_outputs(&rs);
     cli_pin_free(&o.pin);

@@ -287,6 +287,30 @@ double psim_engine_option(const psim_sim *e, const char *name, double dflt)
     return (k >= 0 && e->opt_set[k]) ? e->opt_value[k] : dflt;
 }
 
+/* The store: every particle of the scene, by id. */
+static int store_fill(psim_sim *e, const psim_scene *sc, psim_error *err)
+{
+    if (psim_store_init(&e->st, (size_t)sc->n)) {
+        psim_error_set(err, "out of memory for %ld particles", sc->n);
+        return -1;
+    }
+    /* first touch by the threads that will work on these particles (the
+     * split of the move), so pages land on their NUMA nodes */
+    const size_t n = (size_t)sc->n;
+#pragma omp parallel num_threads(e->threads)
+    {
+        int T = omp_get_num_threads(), k = omp_get_thread_num();
+        for (size_t i = psim_part_lo(n, T, k); i < psim_part_lo(n, T, k + 1); i++) {
+            e->st.x[i] = sc->x[i];
+            e->st.y[i] = sc->y[i];
+            e->st.vx[i] = sc->vx[i];
+            e->st.vy[i] = sc->vy[i];
+            e->st.id[i] = (int32_t)i;
+        }
+    }
+    return 0;
+}
+
 psim_sim *psim_engine_create(psim_scene *sc, const psim_config *cfg,
                              const psim_model *model, int take, psim_error *err)
 {
@@ -299,7 +323,7 @@ psim_sim *psim_engine_create(psim_scene *sc, const psim_config *cfg,
     e->threads = cfg->threads > 0 ? cfg->threads : omp_get_max_threads();
     if (e->threads > omp_get_thread_limit())   /* no team gets more (OMP_THREAD_LIMIT) */
         e->threads = omp_get_thread_limit();
-    e->n = sc->n;
+    e->n = e->n_all = sc->n;
     e->L = sc->L;
     e->r = sc->r;
     e->model = model;
@@ -318,24 +342,16 @@ psim_sim *psim_engine_create(psim_scene *sc, const psim_config *cfg,
         goto fail;
     if (psim_engine_restart_init(e, sc, err))
         goto fail;
-    if (psim_store_init(&e->st, (size_t)sc->n)) {
-        psim_error_set(err, "out of memory for %ld particles", sc->n);
-        goto fail;
-    }
-    /* first touch by the threads that will work on these particles (the
-     * split of the move), so pages land on their NUMA nodes */
-    const size_t n = (size_t)sc->n;
-#pragma omp parallel num_threads(e->threads)
-    {
-        int T = omp_get_num_threads(), k = omp_get_thread_num();
-        for (size_t i = psim_part_lo(n, T, k); i < psim_part_lo(n, T, k + 1); i++) {
-            e->st.x[i] = sc->x[i];
-            e->st.y[i] = sc->y[i];
-            e->st.vx[i] = sc->vx[i];
-            e->st.vy[i] = sc->vy[i];
-            e->st.id[i] = (int32_t)i;
+    if (psim_dist_ranks() > 1) {
+        if (cfg->check) {
+            psim_error_set(err, "--check runs in one process only, not over MPI ranks");
+            err->usage = 1;
+            goto fail;
         }
-    }
+        if (psim_dist_attach(e, sc, err))
+            goto fail;
+    } else if (store_fill(e, sc, err))
+        goto fail;
     if (take) {
         /* the store holds the particles: the scene's copy goes before the
          * model allocates its own memory */
@@ -371,6 +387,7 @@ void psim_destroy(psim_sim *e)
         return;
     if (e->mstate)
         e->model->destroy(e->mstate);
+    psim_dist_detach(e);
     psim_sorter_free(&e->sorter);
     psim_grid_free(&e->grid);
     psim_store_free(&e->st);
@@ -422,18 +439,31 @@ void psim_engine_sort(psim_sim *e)
         psim_engine_restart_order(e);
     if (e->has_grid)
         PSIM_TIMED(e, PSIM_PHASE_SORT, phase_sort(e));
+    if (e->dist)
+        psim_dist_sorted(e);
+}
+
+int psim_engine_ranks(const psim_sim *e)
+{
+    return e->dist ? psim_dist_ranks() : 1;
 }
 
 int psim_step(psim_sim *e, psim_error *err)
 {
-    if (psim_stop_requested())
+    /* over ranks, the ranks agree on a stop at the step's end */
+    if (!e->dist && psim_stop_requested())
         return psim_engine_stopped(e, err);
     psim_poll_begin(e);
+    if (e->dist && psim_dist_prestep(e, err))
+        return -1;
     if (e->cfg.check)
         PSIM_TIMED(e, PSIM_PHASE_CHECK, take_snapshot(e, &e->before));
-    if (e->model->interact(e, e->mstate, err))
+    int rc = e->model->interact(e, e->mstate, err);
+    if (e->dist)
+        rc = psim_dist_poststep(e, rc, err);
+    if (rc)
         return -1;
-    if (psim_stop_requested())   /* a poll ended a loop early: the state is of no use */
+    if (!e->dist && psim_stop_requested())   /* a poll ended a loop early: the state is of no use */
         return psim_engine_stopped(e, err);
     e->step++;
     e->stats.steps = e->step - e->step0;
@@ -441,7 +471,7 @@ int psim_step(psim_sim *e, psim_error *err)
         PSIM_REGION_BEGIN(e, PSIM_PHASE_CHECK);
         double t0 = psim_now();
         /* an overflowed state is named as such, not as a broken rule */
-        int rc = psim_state_finite(e, err);
+        rc = psim_state_finite(e, err);
         if (rc == 0) {
             take_snapshot(e, &e->after);
             rc = e->model->check(e, e->mstate, &e->before, &e->after, err);
@@ -458,6 +488,8 @@ int psim_step(psim_sim *e, psim_error *err)
 
 int psim_state_finite(const psim_sim *e, psim_error *err)
 {
+    if (e->dist)   /* checked at every step's end (psim_dist_poststep) */
+        return 0;
     const psim_store *s = &e->st;
     size_t bad = s->n;
     for (size_t k = 0; k < s->n; k++)
@@ -476,7 +508,7 @@ int psim_state_finite(const psim_sim *e, psim_error *err)
 long psim_step_index(const psim_sim *e) { return e->step; }
 double psim_step_time(const psim_sim *e) { return e->step_time; }
 double psim_time_at(const psim_sim *e, long step) { return (double)step * e->step_time; }
-long psim_count(const psim_sim *e) { return e->n; }
+long psim_count(const psim_sim *e) { return e->n_all; }
 const psim_stats *psim_get_stats(const psim_sim *e) { return &e->stats; }
 
 const psim_thread_stats *psim_get_thread_stats(const psim_sim *e, int *threads)
@@ -524,6 +556,7 @@ void psim_print_skips(FILE *f, const psim_sim *e)
 
 int psim_write_output(psim_sim *e, FILE *f, long step, int final, int digits)
 {
+    ON_RANK0(e, psim_write_output(v_, f, step, final, digits));
     if (e->model->write_state)
         return e->model->write_state(e, e->mstate, f, step, final,
                                      digits >= 0 ? digits : e->model->output_digits);
@@ -554,6 +587,7 @@ void psim_state_cols_free(psim_cols *c)
 
 int psim_write_trace(psim_sim *e, FILE *f, long step, int digits)
 {
+    ON_RANK0(e, psim_write_trace(v_, f, step, digits));
     psim_cols c;
     if (psim_state_cols_take(e, &c))
         return -1;
@@ -565,6 +599,7 @@ int psim_write_trace(psim_sim *e, FILE *f, long step, int digits)
 
 int psim_write_dump(psim_sim *e, FILE *f, long step)
 {
+    ON_RANK0(e, psim_write_dump(v_, f, step));
     psim_cols c;
     if (psim_state_cols_take(e, &c))
         return -1;
@@ -576,6 +611,15 @@ int psim_write_dump(psim_sim *e, FILE *f, long step)
 
 int psim_write_header(psim_sim *e, FILE *f)
 {
+    if (e->dist) {   /* rank 0, with every rank's count */
+        int rc = 0;
+        if (psim_dist_rank() == 0 && e->model->write_header) {
+            psim_sim v = *e;
+            v.n = e->n_all, v.dist = NULL;
+            rc = e->model->write_header(&v, e->mstate, f);
+        }
+        return psim_dist_agree(rc != 0) >= 0 ? -1 : 0;
+    }
     return e->model->write_header ? e->model->write_header(e, e->mstate, f) : 0;
 }
 

@@ -46,6 +46,10 @@ struct psim_sim {
     double grid_saved_ask[7]; /* a restart's, given at the model's first ask */
     int32_t *restart_order; /* a restart's store order, from the first sort */
     psim_poll_state poll;   /* progress and stopping inside a step (poll.c) */
+    /* over MPI ranks (dist.h): n counts this rank's particles, its ghosts
+     * included; n_all every rank's (without ranks, n) */
+    struct psim_dist *dist;
+    long n_all;
 };
 
 /* restart.c: what a restart file carries into the engine at its creation
@@ -76,6 +80,22 @@ int psim_engine_limits(const struct psim_sim *e, const psim_scene *sc, psim_erro
         call;                                                             \
         (e)->stats.phase_s[(p)] += psim_now() - t0_;                      \
         PSIM_REGION_END(e, p);                                            \
+    } while (0)
+
+/* Over ranks: the state gathered to rank 0, which writes it through the
+ * same writer (v, the gathered state, has no ranks); the other ranks
+ * write nothing, and every rank returns -1 if rank 0's write failed. */
+#define ON_RANK0(e, call)                                                     \
+    do {                                                                      \
+        if ((e)->dist) {                                                      \
+            psim_sim *v_ = psim_dist_view(e);                                 \
+            int rc_ = 0;                                                      \
+            if (v_) {                                                         \
+                rc_ = call;                                                   \
+            }                                                                 \
+            psim_dist_view_free(v_);                                          \
+            return psim_dist_agree(rc_ != 0) >= 0 ? -1 : 0;                   \
+        }                                                                     \
     } while (0)
 
 #endif

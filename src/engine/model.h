@@ -26,6 +26,7 @@
 #include "../io/fmt.h"
 #include "../io/lines.h"
 #include "../io/state_write.h"
+#include "dist.h"
 
 struct psim_sim;
 
@@ -130,6 +131,14 @@ typedef struct psim_model {
      * per: a step's dt), for this run, which the engine asks for once the
      * model is made; without it a step is one time unit */
     double (*step_time)(const struct psim_sim *e, const void *m);
+    /* optional: what it needs to run over MPI ranks (dist.h): its reach,
+     * the skin of its ghosts and the fields they need each step.  A model
+     * without it runs in one process only.  Over ranks the store holds
+     * ghosts beside the rank's own particles: the model rebuilds what it
+     * derives from the store (and sorts) after an exchange, and only then
+     * (psim_engine_exchanged); what it sums over particles, it sums over
+     * its own (psim_engine_ghost). */
+    int (*halo)(const struct psim_sim *e, const void *m, psim_halo *h);
     /* optional: its source's own initial state of n particles from seed */
     int (*generate)(psim_scene *sc, long n, uint64_t seed, psim_error *err);
     void (*destroy)(void *m);
@@ -192,6 +201,14 @@ const double *psim_engine_restart_column(const struct psim_sim *e, const psim_sc
  * or -1. */
 int psim_engine_restart_value(const struct psim_sim *e, const psim_scene *sc,
                               const char *name, double *v);
+/* Over MPI ranks (dist.h): how many ranks run the simulation (1: one
+ * process); whether the store was exchanged since the model last sorted
+ * it; how far any particle has moved since the exchange, at most; whether
+ * store place k holds a ghost. */
+int psim_engine_ranks(const struct psim_sim *e);
+int psim_engine_exchanged(const struct psim_sim *e);
+double psim_engine_drift(const struct psim_sim *e);
+int psim_engine_ghost(const struct psim_sim *e, size_t place);
 /* Index of the counter called name in the stats (-1 if none). */
 int psim_engine_counter(const struct psim_sim *e, const char *name);
 

@@ -205,6 +205,7 @@ static size_t restart_line(char *out, long j, const void *vctx)
 
 int psim_write_restart(psim_sim *e, FILE *f, long steps)
 {
+    ON_RANK0(e, psim_write_restart(v_, f, steps));
     restart_lines c = {.st = &e->st};
     psim_cols by_id = {0};
     int rc = -1;

@@ -19,7 +19,7 @@ int psim_write_stats_json(FILE *f, const psim_sim *e, const char *scene_name,
     psim_write_json_string(f, scene_name ? scene_name : "");
     fprintf(f, ",\n  \"n\": %ld,\n  \"L\": %s,\n  \"r\": %s,\n  \"steps\": %ld,\n"
                "  \"step_time\": %s,\n  \"threads\": %d,\n  \"allocator\": \"%s\",\n",
-            e->n, L, r, s->steps, dt, s->threads, psim_allocator_name());
+            e->n_all, L, r, s->steps, dt, s->threads, psim_allocator_name());
     char h[PSIM_FORMAT_MAX] = "null";   /* JSON has no infinity */
     if (isfinite(s->cell_side))
         psim_format_double(h, s->cell_side, -1);

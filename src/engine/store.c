@@ -7,7 +7,7 @@
 int psim_store_init(psim_store *s, size_t n)
 {
     memset(s, 0, sizeof *s);
-    s->n = n;
+    s->n = s->cap = n;
     double **d[] = {&s->x, &s->y, &s->vx, &s->vy, &s->x2, &s->y2, &s->vx2, &s->vy2};
     for (size_t k = 0; k < sizeof d / sizeof d[0]; k++)
         if (!(*d[k] = psim_alloc(n * sizeof(double))))
@@ -30,6 +30,17 @@ void psim_store_free(psim_store *s)
     for (size_t k = 0; k < sizeof p / sizeof p[0]; k++)
         psim_free(p[k]);
     memset(s, 0, sizeof *s);
+}
+
+int psim_store_resize(psim_store *s, size_t n)
+{
+    if (n <= s->cap) {
+        s->n = n;
+        return 0;
+    }
+    psim_store_free(s);
+    /* a quarter more: the ghosts and owned particles of a rank vary */
+    return psim_store_init(s, n + n / 4) ? -1 : (s->n = n, 0);
 }
 
 #define SWAP(a, b) do { __typeof__(a) t_ = (a); (a) = (b); (b) = t_; } while (0)

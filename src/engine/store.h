@@ -7,6 +7,7 @@
 
 typedef struct psim_store {
     size_t n;
+    size_t cap;                  /* room in every array */
     double *x, *y, *vx, *vy;
     int32_t *id;
     double *x2, *y2, *vx2, *vy2; /* sort targets, swapped in after a sort */
@@ -16,6 +17,9 @@ typedef struct psim_store {
 
 int psim_store_init(psim_store *s, size_t n);
 void psim_store_free(psim_store *s);
+/* Room for n particles (their contents lost when it grows); n set.  0, or
+ * -1 when out of memory (the store then empty). */
+int psim_store_resize(psim_store *s, size_t n);
 /* Swap the arrays with the sort targets. */
 void psim_store_swap(psim_store *s);
 

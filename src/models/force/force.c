@@ -233,6 +233,13 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
     m->rounds = (int)psim_engine_option(
         e, "rounds", e->threads >= FORCE_STATIC_THREADS ? FORCE_ROUNDS_STATIC : FORCE_ROUNDS_DYNAMIC);
     m->absmin = 1.0;
+    if (psim_engine_ranks(e) > 1 && (m->naive || m->stats)) {
+        psim_error_set(err, "--option %s=1 runs in one process only, not over MPI ranks",
+                       m->naive ? "naive" : "stats");
+        err->usage = 1;
+        destroy(m);
+        return NULL;
+    }
     if (m->naive && naive_too_long(e, err)) {
         destroy(m);
         return NULL;
@@ -257,8 +264,11 @@ oom:
  * pairs closer than the cutoff were within cutoff + room then (room: the
  * skin, or more where the nearest unlisted pair was measured, nlist.c)
  * unless closing > room. */
-static int lists_stale(const fmodel *m)
+static int lists_stale(const psim_sim *e, const fmodel *m)
 {
+    /* over ranks the engine's exchange decides, for every rank at once */
+    if (psim_engine_ranks(e) > 1)
+        return !m->built || psim_engine_exchanged(e);
     return !m->built || m->closing > m->room;
 }
 
@@ -266,14 +276,14 @@ static int interact(psim_sim *e, void *p, psim_error *err)
 {
     fmodel *m = p;
     int rc = 0;
-    if (m->quiet >= 2 && m->skip && !m->naive) {   /* at rest: nothing can change */
+    if (m->quiet >= 2 && m->skip && !m->naive && psim_engine_ranks(e) == 1) {   /* at rest: nothing can change */
         e->stats.skipped[FS_MOVE]++;
         return 0;
     }
     /* kept past the skin: a rebuild that the skin alone would have made */
-    e->stats.skipped[FS_LISTS] += !m->naive && m->built && !lists_stale(m) &&
+    e->stats.skipped[FS_LISTS] += !m->naive && m->built && !lists_stale(e, m) &&
                                   m->closing > m->skin;
-    if (!m->naive && lists_stale(m) && (rc = force_build_lists(e, m)) != 0) {
+    if (!m->naive && lists_stale(e, m) && (rc = force_build_lists(e, m)) != 0) {
         if (rc == -2)
             psim_error_set(err, "step %ld: the particles are too crowded for neighbour lists "
                                 "(more than %d pairs per particle within cutoff + skin): "
@@ -374,7 +384,7 @@ static int write_state(psim_sim *e, void *p, FILE *f, long step, int final, int 
 static void source_summary(FILE *f, const psim_sim *e, const void *p, double seconds)
 {
     const fmodel *m = p;
-    fprintf(f, "Simulation Time = %g seconds for %ld particles.\n", seconds, e->n);
+    fprintf(f, "Simulation Time = %g seconds for %ld particles.\n", seconds, e->n_all);
     if (!m->stats)
         return;
     double absavg = m->nabsavg ? m->absavg / (double)m->nabsavg : m->absavg;
@@ -405,6 +415,16 @@ static double step_time(const psim_sim *e, const void *m)
 {
     (void)e;
     return ((const fmodel *)m)->law.dt;
+}
+
+/* Over MPI ranks: ghosts as far as the lists reach (cutoff + skin);
+ * the forces need their positions only. */
+static int halo(const psim_sim *e, const void *p, psim_halo *h)
+{
+    (void)e;
+    const fmodel *m = p;
+    *h = (psim_halo){m->law.cutoff, m->skin, PSIM_FIELD_X | PSIM_FIELD_Y};
+    return 0;
 }
 
 /* CS267's initial state: n particles on a shuffled grid in a box of side
@@ -466,5 +486,6 @@ const psim_model psim_model_force = {
     .source_summary = source_summary,
     .step_time = step_time,
     .generate = generate,
+    .halo = halo,
     .destroy = destroy,
 };

@@ -787,9 +787,12 @@ int force_step_lists(psim_sim *e, fmodel *m)
 {
     psim_store *s = &e->st;
     psim_thread_stats *ts = e->tstats;
+    /* over ranks the ghosts' motion is their owners': every shell */
+    const int ranks = psim_engine_ranks(e) > 1;
     for (uint32_t t = 0; t < m->ntiles; t++) {
         double c = tiles_closing(m, t, m->tiles[t].fwd);
-        m->tiles[t].shells = active_shells(m, c < m->closing ? c : m->closing);
+        m->tiles[t].shells = ranks ? FORCE_BUCKETS
+                                   : active_shells(m, c < m->closing ? c : m->closing);
     }
     double t0 = psim_now();
     /* one thread, or one tile: the same calls in order */

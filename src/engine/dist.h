@@ -1,0 +1,94 @@
+/* The distributed engine: one simulation over MPI ranks (docs/scale-out.md).
+ *
+ * Each rank owns the particles whose centres lie in its domain, one box
+ * of a 2D grid of ranks cut where the particles are (dist_cut.c), and
+ * keeps ghost copies of the particles of other domains within its halo:
+ * the model's reach plus a skin (psim_model.halo).  Owned particles and
+ * ghosts share the rank's store, sorted and tiled as in one process; a
+ * ghost carries its global id, so a model whose sums follow the ids (the
+ * force model) adds every owned particle's forces in the order one
+ * process does.
+ *
+ * The exchange: particles that left their domain migrate to their owner
+ * (any rank, however far they went) and the ghosts are chosen anew, only
+ * when some particle has moved more than half the skin since the last
+ * exchange (one allreduce a step decides it for every rank); in between,
+ * the ghosts' fields (psim_halo.fields) are sent from their owners every
+ * step.  The model rebuilds what it derives from the store (lists, its
+ * sort) after an exchange, and only then (psim_engine_exchanged).
+ *
+ * Outputs: the state by id is gathered to rank 0, which writes it through
+ * the same writers as one process (psim_dist_view), so the bytes are the
+ * same for any rank and thread count.
+ *
+ * MPI is started only when a launcher started psim (psim_dist_start): a
+ * run without one makes no MPI call. */
+#ifndef PSIM_ENGINE_DIST_H
+#define PSIM_ENGINE_DIST_H
+#include <stddef.h>
+#include <stdint.h>
+
+#include "psim/psim.h"
+
+struct psim_sim;
+
+/* What a model needs from the exchange (psim_model.halo): the distance
+ * within which particles act on each other, the skin the ghosts reach
+ * beyond it (an exchange every time some particle has moved half of it),
+ * and the fields of a ghost sent every step. */
+enum { PSIM_FIELD_X = 1, PSIM_FIELD_Y = 2, PSIM_FIELD_VX = 4, PSIM_FIELD_VY = 8 };
+typedef struct psim_halo {
+    double reach, skin;
+    unsigned fields;
+} psim_halo;
+
+/* Per-rank figures of a run over ranks, for the summary and --stats. */
+typedef struct psim_rank_stats {
+    double phase_s[PSIM_PHASES_MAX];
+    double comm_s;             /* exchanges, ghost updates and the step's allreduce */
+    long owned, ghosts;        /* at the end of the run */
+    uint64_t bytes_sent, messages_sent;
+    uint64_t exchanges, recuts;
+} psim_rank_stats;
+
+/* Start MPI when a launcher started psim (Open MPI's, PMIx's, PMI's or
+ * Slurm's variables); without one, nothing.  The number of ranks (1
+ * without a launcher), or -1 with err set (a launcher's ranks > 1 in a
+ * build without MPI). */
+int psim_dist_start(int *argc, char ***argv, psim_error *err);
+/* End MPI if it was started. */
+void psim_dist_finish(void);
+int psim_dist_rank(void);
+int psim_dist_ranks(void);
+/* Collective: the lowest rank whose `failed` is set, or -1 if none. */
+int psim_dist_agree(int failed);
+/* Collective: the largest of every rank's v. */
+double psim_dist_max(double v);
+/* End every rank of the job now (a failure past which ranks cannot agree). */
+_Noreturn void psim_dist_abort(int code);
+
+/* Engine side (engine.c). */
+/* Set up the run over ranks: keep this rank's share of sc's particles (a
+ * block of ids; the first exchange sends them to their owners).  0, or
+ * -1 with err set (a model that cannot run over ranks, too many ranks). */
+int psim_dist_attach(struct psim_sim *e, const psim_scene *sc, psim_error *err);
+void psim_dist_detach(struct psim_sim *e);
+/* Before a step: the exchange when it is due, else the ghosts' fields. */
+int psim_dist_prestep(struct psim_sim *e, psim_error *err);
+/* After a step (rc: interact's): the ranks agree on failure and stop and
+ * measure the drift since the exchange.  0, or -1 with err set (its
+ * message empty on ranks that did not fail themselves). */
+int psim_dist_poststep(struct psim_sim *e, int rc, psim_error *err);
+/* After the model sorted the store: the ghosts' and the sent particles'
+ * places found again. */
+void psim_dist_sorted(struct psim_sim *e);
+/* Collective: the state by id on rank 0, as a simulation the writers read
+ * (rank 0), or NULL (the other ranks; rank 0 out of memory: errno). */
+struct psim_sim *psim_dist_view(struct psim_sim *e);
+void psim_dist_view_free(struct psim_sim *v);
+/* Collective: counters and phase times of every rank into rank 0's stats
+ * (counters summed, times the largest), and each rank's own figures into
+ * per (rank 0, psim_dist_ranks() entries; NULL elsewhere). */
+void psim_dist_reduce_stats(struct psim_sim *e, psim_rank_stats *per);
+
+#endif

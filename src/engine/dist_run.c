@@ -1,0 +1,653 @@
+/* The distributed engine's side of a run (dist.h): a rank's share of the
+ * particles, the exchanges, the ghosts' updates, the state gathered for
+ * the writers and the figures summed for the summary. */
+#include "dist.h"
+
+#include <errno.h>
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../base/error.h"
+#include "dist_cut.h"
+#include "engine.h"
+#include "mem.h"
+#include "timer.h"
+
+#ifdef PSIM_HAVE_MPI
+#include <mpi.h>
+
+/* Doubles a migrating particle or a new ghost travels as: id, x, y, vx, vy. */
+#define REC 5
+/* A rank holding this much more than the mean share after an exchange
+ * has the domains cut again at the next one. */
+#define DIST_RECUT 1.10
+
+typedef struct psim_dist {
+    dist_cuts cuts;
+    psim_halo halo;
+    double h;                 /* the halo's width: reach + skin */
+    int comm_phase;           /* the stats' "comm" */
+    size_t n_own;             /* owned particles (the store's others are ghosts) */
+    int due, exchanged, recut;
+    double drift;             /* every owned particle has moved at most this
+                               * since the exchange (all ranks' largest) */
+    int *scnt, *sdsp, *rcnt, *rdsp;   /* ghosts to / from each rank */
+    int32_t *send_id, *recv_id;
+    uint32_t *send_slot, *recv_slot;
+    size_t nsend, nrecv;
+    uint8_t *ghost;           /* by store place */
+    double *x0, *y0;          /* by store place: positions at the exchange */
+    size_t cap;
+    psim_rank_stats rs;
+} psim_dist;
+
+static int R(void) { return psim_dist_ranks(); }
+static int me(void) { return psim_dist_rank(); }
+
+static int fields_of(unsigned f)
+{
+    return !!(f & PSIM_FIELD_X) + !!(f & PSIM_FIELD_Y) + !!(f & PSIM_FIELD_VX) +
+           !!(f & PSIM_FIELD_VY);
+}
+
+/* Room for n places in the by-place arrays. */
+static int places(psim_dist *d, size_t n)
+{
+    if (n <= d->cap)
+        return 0;
+    size_t c = n + n / 4 + 64;
+    free(d->ghost), free(d->x0), free(d->y0);
+    d->ghost = malloc(c);
+    d->x0 = malloc(c * sizeof *d->x0);
+    d->y0 = malloc(c * sizeof *d->y0);
+    d->cap = d->ghost && d->x0 && d->y0 ? c : 0;
+    return d->cap ? 0 : -1;
+}
+
+static _Noreturn void out_of_memory(const char *what)
+{
+    fprintf(stderr, "psim: rank %d: out of memory for %s\n", me(), what);
+    psim_dist_abort(1);
+}
+
+static void *grow(void *p, size_t bytes, const char *what)
+{
+    void *q = realloc(p, bytes ? bytes : 1);
+    if (!q)
+        out_of_memory(what);
+    return q;
+}
+
+/* MPI_Alltoallv of doubles, counts in records of k doubles; the bytes and
+ * messages sent are counted. */
+static void alltoallv(psim_dist *d, const double *s, const int *scnt, const int *sdsp,
+                      double *r, const int *rcnt, const int *rdsp, int k)
+{
+    int n = R();
+    int *sc = malloc(4 * (size_t)n * sizeof *sc);
+    if (!sc)
+        out_of_memory("an exchange");
+    int *sd = sc + n, *rc = sd + n, *rd = rc + n;
+    for (int q = 0; q < n; q++) {
+        sc[q] = scnt[q] * k, sd[q] = sdsp[q] * k, rc[q] = rcnt[q] * k, rd[q] = rdsp[q] * k;
+        if (q != me() && scnt[q]) {
+            d->rs.bytes_sent += (uint64_t)sc[q] * sizeof(double);
+            d->rs.messages_sent++;
+        }
+    }
+    MPI_Alltoallv(s, sc, sd, MPI_DOUBLE, r, rc, rd, MPI_DOUBLE, MPI_COMM_WORLD);
+    free(sc);
+}
+
+/* Receive counts from send counts, and both displacements; the total received. */
+static size_t counts(const int *scnt, int *sdsp, int *rcnt, int *rdsp)
+{
+    MPI_Alltoall(scnt, 1, MPI_INT, rcnt, 1, MPI_INT, MPI_COMM_WORLD);
+    size_t s = 0, r = 0;
+    for (int q = 0; q < R(); q++) {
+        sdsp[q] = (int)s, rdsp[q] = (int)r;
+        s += (size_t)scnt[q], r += (size_t)rcnt[q];
+    }
+    return r;
+}
+
+static void put_rec(double *o, const psim_store *st, size_t i)
+{
+    o[0] = st->id[i], o[1] = st->x[i], o[2] = st->y[i], o[3] = st->vx[i], o[4] = st->vy[i];
+}
+
+/* The domains cut again where the owned particles are: a histogram of x
+ * over every rank, then one of y in each column. */
+static void recut(psim_sim *e)
+{
+    psim_dist *d = e->dist;
+    dist_cuts *c = &d->cuts;
+    const psim_store *st = &e->st;
+    uint64_t *h = calloc((size_t)c->px * DIST_BINS, sizeof *h);
+    if (!h)
+        out_of_memory("the domains");
+    for (size_t i = 0; i < d->n_own; i++)
+        h[dist_bin(st->x[i], e->L)]++;
+    MPI_Allreduce(MPI_IN_PLACE, h, DIST_BINS, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
+    dist_cuts_from_hist(h, e->L, c->px, c->cx);
+    memset(h, 0, (size_t)c->px * DIST_BINS * sizeof *h);
+    for (size_t i = 0; i < d->n_own; i++)
+        h[(size_t)dist_cuts_column(c, st->x[i]) * DIST_BINS + dist_bin(st->y[i], e->L)]++;
+    MPI_Allreduce(MPI_IN_PLACE, h, c->px * DIST_BINS, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
+    for (int i = 0; i < c->px; i++)
+        dist_cuts_from_hist(h + (size_t)i * DIST_BINS, e->L, c->py,
+                            c->cy + (size_t)i * (c->py + 1));
+    free(h);
+    d->rs.recuts++;
+}
+
+/* Records of the store's places idx[0..n) (NULL: 0..n) for rank dest[k],
+ * grouped by rank; scnt[q] of them for rank q. */
+static double *pack_by_rank(const psim_store *st, const uint32_t *idx, const int *dest,
+                            size_t n, const int *scnt, int *sdsp)
+{
+    size_t off = 0;
+    for (int q = 0; q < R(); q++)
+        sdsp[q] = (int)off, off += (size_t)scnt[q];
+    double *buf = malloc((off ? off : 1) * REC * sizeof *buf);
+    if (!buf)
+        out_of_memory("an exchange");
+    int *at = malloc((size_t)R() * sizeof *at);
+    if (!at)
+        out_of_memory("an exchange");
+    memcpy(at, sdsp, (size_t)R() * sizeof *at);
+    for (size_t k = 0; k < n; k++)
+        put_rec(buf + (size_t)at[dest[k]]++ * REC, st, idx ? idx[k] : k);
+    free(at);
+    return buf;
+}
+
+/* Migration: every owned particle to the rank that owns its place now.
+ * The records received (n_own of them) are returned. */
+static double *migrate(psim_sim *e, size_t *got)
+{
+    psim_dist *d = e->dist;
+    const psim_store *st = &e->st;
+    int n = R();
+    uint32_t *own = malloc((d->n_own ? d->n_own : 1) * sizeof *own);
+    int *dest = malloc((d->n_own ? d->n_own : 1) * sizeof *dest);
+    int *c = calloc(4 * (size_t)n, sizeof *c);
+    if (!own || !dest || !c)
+        out_of_memory("an exchange");
+    size_t m = 0;
+    for (size_t i = 0; i < st->n; i++) {
+        if (d->ghost[i])
+            continue;
+        own[m] = (uint32_t)i;
+        dest[m] = dist_cuts_owner(&d->cuts, st->x[i], st->y[i]);
+        c[dest[m++]]++;
+    }
+    int *sd = c + n, *rc = sd + n, *rd = rc + n;
+    double *sbuf = pack_by_rank(st, own, dest, m, c, sd);
+    size_t r = counts(c, sd, rc, rd);
+    double *rbuf = malloc((r ? r : 1) * REC * sizeof *rbuf);
+    if (!rbuf)
+        out_of_memory("an exchange");
+    alltoallv(d, sbuf, c, sd, rbuf, rc, rd, REC);
+    free(sbuf), free(own), free(dest), free(c);
+    *got = r;
+    return rbuf;
+}
+
+/* The ghosts: each owned record (in own[0..m)) to every other rank whose
+ * domain it lies within the halo of.  The records received are returned;
+ * the ids sent and received are kept, by rank, for the updates. */
+static double *ghosts(psim_sim *e, const double *own, size_t m, size_t *got)
+{
+    psim_dist *d = e->dist;
+    int n = R();
+    memset(d->scnt, 0, (size_t)n * sizeof *d->scnt);
+    size_t ns = 0;
+    for (int pass = 0; pass < 2; pass++) {
+        if (pass) {
+            d->send_id = grow(d->send_id, ns * sizeof *d->send_id, "the ghosts");
+            d->send_slot = grow(d->send_slot, ns * sizeof *d->send_slot, "the ghosts");
+            for (int q = 0, off = 0; q < n; q++)
+                d->sdsp[q] = off, off += d->scnt[q], d->scnt[q] = 0;
+        }
+        for (size_t k = 0; k < m; k++) {
+            const double *p = own + k * REC;
+            for (int q = 0; q < n; q++) {
+                if (q == me() || !dist_cuts_near(&d->cuts, q, p[1], p[2], d->h))
+                    continue;
+                if (pass) {
+                    size_t at = (size_t)d->sdsp[q] + (size_t)d->scnt[q];
+                    d->send_id[at] = (int32_t)p[0];
+                    d->send_slot[at] = (uint32_t)k;
+                }
+                d->scnt[q]++;
+                ns += !pass;
+            }
+        }
+    }
+    d->nsend = ns;
+    double *sbuf = malloc((ns ? ns : 1) * REC * sizeof *sbuf);
+    if (!sbuf)
+        out_of_memory("the ghosts");
+    for (size_t k = 0; k < ns; k++)
+        memcpy(sbuf + k * REC, own + (size_t)d->send_slot[k] * REC, REC * sizeof *sbuf);
+    size_t r = counts(d->scnt, d->sdsp, d->rcnt, d->rdsp);
+    double *rbuf = malloc((r ? r : 1) * REC * sizeof *rbuf);
+    if (!rbuf)
+        out_of_memory("the ghosts");
+    alltoallv(d, sbuf, d->scnt, d->sdsp, rbuf, d->rcnt, d->rdsp, REC);
+    free(sbuf);
+    d->nrecv = r;
+    d->recv_id = grow(d->recv_id, (r ? r : 1) * sizeof *d->recv_id, "the ghosts");
+    d->recv_slot = grow(d->recv_slot, (r ? r : 1) * sizeof *d->recv_slot, "the ghosts");
+    for (size_t k = 0; k < r; k++)
+        d->recv_id[k] = (int32_t)rbuf[k * REC], d->recv_slot[k] = (uint32_t)(m + k);
+    *got = r;
+    return rbuf;
+}
+
+static void get_rec(psim_store *st, size_t i, const double *p)
+{
+    st->id[i] = (int32_t)p[0], st->x[i] = p[1], st->y[i] = p[2], st->vx[i] = p[3],
+    st->vy[i] = p[4];
+}
+
+/* The positions of every place as they are now: the drift is measured
+ * from them. */
+static void mark(psim_sim *e)
+{
+    psim_dist *d = e->dist;
+    memcpy(d->x0, e->st.x, e->st.n * sizeof *d->x0);
+    memcpy(d->y0, e->st.y, e->st.n * sizeof *d->y0);
+    d->drift = 0;
+}
+
+/* The exchange: migration, then the ghosts; the store becomes the owned
+ * particles followed by the ghosts. */
+static void exchange(psim_sim *e)
+{
+    psim_dist *d = e->dist;
+    if (d->recut)
+        recut(e);
+    size_t m, g;
+    double *own = migrate(e, &m);
+    double *gh = ghosts(e, own, m, &g);
+    if (psim_store_resize(&e->st, m + g) || places(d, m + g))
+        out_of_memory("the particles");
+    for (size_t i = 0; i < m; i++)
+        get_rec(&e->st, i, own + i * REC);
+    for (size_t i = 0; i < g; i++)
+        get_rec(&e->st, m + i, gh + i * REC);
+    free(own), free(gh);
+    d->n_own = m;
+    e->n = (long)(m + g);
+    memset(d->ghost, 0, m);
+    memset(d->ghost + m, 1, g);
+    mark(e);
+    d->exchanged = 1;
+    d->rs.exchanges++;
+    /* cut again at the next exchange if the shares drifted apart */
+    double most = psim_dist_max((double)m);
+    d->recut = most > DIST_RECUT * (double)e->n_all / R() + 1;
+}
+
+/* The ghosts' fields from their owners. */
+static void update(psim_sim *e)
+{
+    psim_dist *d = e->dist;
+    psim_store *st = &e->st;
+    const unsigned f = d->halo.fields;
+    const int k = fields_of(f);
+    double *const col[4] = {st->x, st->y, st->vx, st->vy};
+    double *s = malloc((d->nsend ? d->nsend : 1) * (size_t)k * sizeof *s);
+    double *r = malloc((d->nrecv ? d->nrecv : 1) * (size_t)k * sizeof *r);
+    if (!s || !r)
+        out_of_memory("the ghosts");
+    for (size_t i = 0; i < d->nsend; i++)
+        for (int c = 0, o = 0; c < 4; c++)
+            if (f & (1u << c))
+                s[i * (size_t)k + (size_t)o++] = col[c][d->send_slot[i]];
+    alltoallv(d, s, d->scnt, d->sdsp, r, d->rcnt, d->rdsp, k);
+    for (size_t i = 0; i < d->nrecv; i++)
+        for (int c = 0, o = 0; c < 4; c++)
+            if (f & (1u << c))
+                col[c][d->recv_slot[i]] = r[i * (size_t)k + (size_t)o++];
+    free(s), free(r);
+}
+
+int psim_dist_attach(psim_sim *e, const psim_scene *sc, psim_error *err)
+{
+    const psim_model *m = e->model;
+    if (!m->halo) {
+        psim_error_set(err, "the %s model runs in one process only (over MPI ranks: "
+                            "the models with a halo, psim models says which)", m->name);
+        err->usage = 1;
+        return -1;
+    }
+    psim_dist *d = calloc(1, sizeof *d);
+    if (!d || dist_cuts_alloc(&d->cuts, R(), sc->L)) {
+        free(d);
+        psim_error_set(err, "out of memory");
+        return -1;
+    }
+    e->dist = d;
+    int n = R();
+    d->scnt = calloc(4 * (size_t)n, sizeof *d->scnt);
+    if (!d->scnt) {
+        psim_error_set(err, "out of memory");
+        return -1;
+    }
+    d->sdsp = d->scnt + n, d->rcnt = d->sdsp + n, d->rdsp = d->rcnt + n;
+    d->due = d->recut = 1;
+    d->comm_phase = e->stats.nphases;
+    e->stats.phase_name[e->stats.nphases++] = "comm";
+    /* this rank's block of ids: the first exchange sends them on */
+    long lo = (long)((double)sc->n * me() / n), hi = (long)((double)sc->n * (me() + 1) / n);
+    if (psim_store_resize(&e->st, (size_t)(hi - lo)) || places(d, (size_t)(hi - lo))) {
+        psim_error_set(err, "out of memory for %ld particles", hi - lo);
+        return -1;
+    }
+    for (long i = lo; i < hi; i++) {
+        size_t k = (size_t)(i - lo);
+        e->st.x[k] = sc->x[i], e->st.y[k] = sc->y[i];
+        e->st.vx[k] = sc->vx[i], e->st.vy[k] = sc->vy[i];
+        e->st.id[k] = (int32_t)i;
+    }
+    d->n_own = (size_t)(hi - lo);
+    memset(d->ghost, 0, d->n_own);
+    e->n = hi - lo;
+    return 0;
+}
+
+/* The model's halo, asked once it is made. */
+static int halo(psim_sim *e, psim_error *err)
+{
+    psim_dist *d = e->dist;
+    if (d->h > 0)
+        return 0;
+    e->model->halo(e, e->mstate, &d->halo);
+    d->h = d->halo.reach + d->halo.skin;
+    /* domains narrower than the halo: most particles would be ghosts
+     * somewhere else too */
+    double side = e->L / (d->cuts.px > d->cuts.py ? d->cuts.px : d->cuts.py);
+    if (!(side >= d->h)) {
+        psim_error_set(err, "%d ranks cut a box of side %g into domains %g wide, narrower "
+                            "than the halo of the %s model (reach + skin = %g): use fewer ranks",
+                       R(), e->L, side, e->model->name, d->h);
+        err->usage = 1;
+        return -1;
+    }
+    return 0;
+}
+
+void psim_dist_detach(psim_sim *e)
+{
+    psim_dist *d = e->dist;
+    if (!d)
+        return;
+    dist_cuts_free(&d->cuts);
+    free(d->scnt), free(d->send_id), free(d->recv_id), free(d->send_slot), free(d->recv_slot);
+    free(d->ghost), free(d->x0), free(d->y0);
+    free(d);
+    e->dist = NULL;
+}
+
+int psim_dist_prestep(psim_sim *e, psim_error *err)
+{
+    psim_dist *d = e->dist;
+    if (halo(e, err))
+        return -1;
+    double t0 = psim_now();
+    if (d->due)
+        exchange(e);
+    else
+        update(e);
+    d->due = 0;
+    e->stats.phase_s[d->comm_phase] += psim_now() - t0;
+    return 0;
+}
+
+/* The largest squared displacement of an owned particle since the
+ * exchange, and the least id of an owned particle whose state is not
+ * finite (-1: none). */
+static double drift2(const psim_sim *e, double *bad)
+{
+    const psim_dist *d = e->dist;
+    const psim_store *st = &e->st;
+    double m = 0;
+    *bad = -1;
+    for (size_t i = 0; i < st->n; i++) {
+        if (d->ghost[i])
+            continue;
+        double dx = st->x[i] - d->x0[i], dy = st->y[i] - d->y0[i], d2 = dx * dx + dy * dy;
+        if (d2 > m)
+            m = d2;
+        if (!(fabs(st->x[i]) <= DBL_MAX && fabs(st->y[i]) <= DBL_MAX &&
+              fabs(st->vx[i]) <= DBL_MAX && fabs(st->vy[i]) <= DBL_MAX) &&
+            (*bad < 0 || st->id[i] < *bad))
+            *bad = st->id[i];
+    }
+    return m;
+}
+
+/* The state of the particle with id `bad`, not finite, named by its owner
+ * as one process names it. */
+static void not_finite(const psim_sim *e, double bad, psim_error *err)
+{
+    const psim_store *s = &e->st;
+    for (size_t k = 0; k < s->n; k++)
+        if (!e->dist->ghost[k] && s->id[k] == (int32_t)bad) {
+            psim_error_set(err, "step %ld: disk %d is no longer finite (x %g, y %g, vx %g, "
+                                "vy %g): the numbers overflowed, so no state is written",
+                           e->step, s->id[k], s->x[k], s->y[k], s->vx[k], s->vy[k]);
+            return;
+        }
+    psim_error_set(err, "%s", "");
+}
+
+int psim_dist_poststep(psim_sim *e, int rc, psim_error *err)
+{
+    psim_dist *d = e->dist;
+    double t0 = psim_now();
+    const int stopped = psim_stop_requested();
+    double bad = -1;
+    double v[4] = {rc && !stopped ? 1 : 0, stopped, rc ? 0 : drift2(e, &bad), 0};
+    v[3] = bad < 0 ? -INFINITY : -bad;
+    MPI_Allreduce(MPI_IN_PLACE, v, 4, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+    e->stats.phase_s[d->comm_phase] += psim_now() - t0;
+    if (v[0] || v[1]) {
+        if (!rc && v[1])
+            return psim_engine_stopped(e, err);
+        if (!rc)
+            psim_error_set(err, "%s", "");   /* the rank that failed says why */
+        return -1;
+    }
+    if (v[3] > -INFINITY) {
+        e->step++;   /* named as the step whose state it is */
+        not_finite(e, -v[3], err);
+        e->step--;
+        return -1;
+    }
+    d->drift = sqrt(v[2]);
+    d->due = !(2 * d->drift <= d->halo.skin);
+    return 0;
+}
+
+/* Every store place's id, for the places of the ghosts and of the
+ * particles sent after a sort: an open-addressed table, id -> place. */
+typedef struct idmap {
+    int32_t *key;
+    uint32_t *at;
+    size_t mask;
+} idmap;
+
+static size_t hash(int32_t id, size_t mask)
+{
+    return ((uint64_t)(uint32_t)id * 0x9E3779B97F4A7C15ull >> 20) & mask;
+}
+
+static void idmap_build(idmap *h, const psim_store *st)
+{
+    size_t c = 64;
+    while (c < 2 * st->n)
+        c *= 2;
+    h->mask = c - 1;
+    h->key = malloc(c * sizeof *h->key);
+    h->at = malloc(c * sizeof *h->at);
+    if (!h->key || !h->at)
+        out_of_memory("the ghosts' places");
+    memset(h->key, 0xff, c * sizeof *h->key);
+    for (size_t i = 0; i < st->n; i++) {
+        size_t k = hash(st->id[i], h->mask);
+        while (h->key[k] >= 0)
+            k = (k + 1) & h->mask;
+        h->key[k] = st->id[i], h->at[k] = (uint32_t)i;
+    }
+}
+
+static uint32_t idmap_find(const idmap *h, int32_t id)
+{
+    size_t k = hash(id, h->mask);
+    while (h->key[k] != id)
+        k = (k + 1) & h->mask;
+    return h->at[k];
+}
+
+void psim_dist_sorted(psim_sim *e)
+{
+    psim_dist *d = e->dist;
+    double t0 = psim_now();
+    idmap h;
+    idmap_build(&h, &e->st);
+    for (size_t k = 0; k < d->nsend; k++)
+        d->send_slot[k] = idmap_find(&h, d->send_id[k]);
+    memset(d->ghost, 0, e->st.n);
+    for (size_t k = 0; k < d->nrecv; k++)
+        d->ghost[d->recv_slot[k] = idmap_find(&h, d->recv_id[k])] = 1;
+    free(h.key), free(h.at);
+    /* a sort without an exchange loses the drift's origin: the next step
+     * exchanges */
+    if (!d->exchanged)
+        d->due = 1;
+    mark(e);
+    d->exchanged = 0;
+    e->stats.phase_s[d->comm_phase] += psim_now() - t0;
+}
+
+psim_sim *psim_dist_view(psim_sim *e)
+{
+    psim_dist *d = e->dist;
+    const int n = R();
+    double *mine = malloc((d->n_own ? d->n_own : 1) * REC * sizeof *mine);
+    if (!mine)
+        out_of_memory("the state");
+    for (size_t i = 0, k = 0; i < e->st.n; i++)
+        if (!d->ghost[i])
+            put_rec(mine + k++ * REC, &e->st, i);
+    int cnt = (int)d->n_own * REC, *cnts = NULL, *dsp = NULL;
+    double *all = NULL;
+    if (me() == 0) {
+        cnts = malloc(2 * (size_t)n * sizeof *cnts);
+        all = malloc((size_t)(e->n_all ? e->n_all : 1) * REC * sizeof *all);
+        if (!cnts || !all)
+            out_of_memory("the state");
+        dsp = cnts + n;
+    }
+    MPI_Gather(&cnt, 1, MPI_INT, cnts, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    for (int q = 0, off = 0; me() == 0 && q < n; q++)
+        dsp[q] = off, off += cnts[q];
+    MPI_Gatherv(mine, cnt, MPI_DOUBLE, all, cnts, dsp, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+    free(mine), free(cnts);
+    if (me() != 0)
+        return NULL;
+    psim_sim *v = malloc(sizeof *v);
+    if (!v)
+        out_of_memory("the state");
+    *v = *e;
+    v->dist = NULL;
+    size_t N = (size_t)e->n_all;
+    memset(&v->st, 0, sizeof v->st);
+    v->st.n = v->st.cap = N;
+    v->n = e->n_all;
+    v->st.x = psim_alloc(N * sizeof(double) + 1), v->st.y = psim_alloc(N * sizeof(double) + 1);
+    v->st.vx = psim_alloc(N * sizeof(double) + 1), v->st.vy = psim_alloc(N * sizeof(double) + 1);
+    v->st.id = psim_alloc(N * sizeof(int32_t) + 1);
+    if (!v->st.x || !v->st.y || !v->st.vx || !v->st.vy || !v->st.id)
+        out_of_memory("the state");
+    for (size_t k = 0; k < N; k++) {
+        const double *p = all + k * REC;
+        size_t i = (size_t)p[0];
+        v->st.id[i] = (int32_t)i;
+        v->st.x[i] = p[1], v->st.y[i] = p[2], v->st.vx[i] = p[3], v->st.vy[i] = p[4];
+    }
+    free(all);
+    return v;
+}
+
+void psim_dist_view_free(psim_sim *v)
+{
+    if (!v)
+        return;
+    psim_free(v->st.x), psim_free(v->st.y), psim_free(v->st.vx), psim_free(v->st.vy);
+    psim_free(v->st.id);
+    free(v);
+}
+
+void psim_dist_reduce_stats(psim_sim *e, psim_rank_stats *per)
+{
+    psim_dist *d = e->dist;
+    psim_stats *st = &e->stats;
+    d->rs.comm_s = st->phase_s[d->comm_phase];
+    memcpy(d->rs.phase_s, st->phase_s, sizeof d->rs.phase_s);
+    d->rs.owned = (long)d->n_own;
+    d->rs.ghosts = (long)(e->st.n - d->n_own);
+    MPI_Gather(&d->rs, sizeof d->rs, MPI_BYTE, per, sizeof d->rs, MPI_BYTE, 0, MPI_COMM_WORLD);
+    uint64_t sum[PSIM_COUNTERS_MAX], most[PSIM_COUNTERS_MAX];
+    MPI_Reduce(st->counter, sum, PSIM_COUNTERS_MAX, MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD);
+    MPI_Reduce(st->counter, most, PSIM_COUNTERS_MAX, MPI_UINT64_T, MPI_MAX, 0, MPI_COMM_WORLD);
+    double t[PSIM_PHASES_MAX];
+    MPI_Reduce(st->phase_s, t, PSIM_PHASES_MAX, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
+    if (me() != 0)
+        return;
+    for (int k = 0; k < st->ncounters; k++)
+        st->counter[k] = strncmp(st->counter_name[k], "max_", 4) ? sum[k] : most[k];
+    memcpy(st->phase_s, t, sizeof t);
+}
+
+int psim_engine_exchanged(const psim_sim *e)
+{
+    return e->dist && e->dist->exchanged;
+}
+
+double psim_engine_drift(const psim_sim *e)
+{
+    return e->dist ? e->dist->drift : 0;
+}
+
+int psim_engine_ghost(const psim_sim *e, size_t place)
+{
+    return e->dist && e->dist->ghost[place];
+}
+
+#else /* without MPI no run has ranks: never called */
+
+int psim_dist_attach(psim_sim *e, const psim_scene *sc, psim_error *err)
+{
+    (void)e, (void)sc;
+    psim_error_set(err, "built without MPI");
+    return -1;
+}
+void psim_dist_detach(psim_sim *e) { (void)e; }
+int psim_dist_prestep(psim_sim *e, psim_error *err) { (void)e, (void)err; return 0; }
+int psim_dist_poststep(psim_sim *e, int rc, psim_error *err) { (void)e, (void)err; return rc; }
+void psim_dist_sorted(psim_sim *e) { (void)e; }
+psim_sim *psim_dist_view(psim_sim *e) { (void)e; return NULL; }
+void psim_dist_view_free(psim_sim *v) { (void)v; }
+void psim_dist_reduce_stats(psim_sim *e, psim_rank_stats *per) { (void)e, (void)per; }
+int psim_engine_exchanged(const psim_sim *e) { (void)e; return 0; }
+double psim_engine_drift(const psim_sim *e) { (void)e; return 0; }
+int psim_engine_ghost(const psim_sim *e, size_t place) { (void)e, (void)place; return 0; }
+
+#endif
