@@ -73,6 +73,9 @@ _Noreturn void psim_dist_abort(int code);
  * -1 with err set (a model that cannot run over ranks, too many ranks). */
 int psim_dist_attach(struct psim_sim *e, const psim_scene *sc, psim_error *err);
 void psim_dist_detach(struct psim_sim *e);
+/* Once the model is made: its halo, held to the domains' size.  0, or -1
+ * with err set (more ranks than the box can be cut into). */
+int psim_dist_ready(struct psim_sim *e, psim_error *err);
 /* Before a step: the exchange when it is due, else the ghosts' fields. */
 int psim_dist_prestep(struct psim_sim *e, psim_error *err);
 /* After a step (rc: interact's): the ranks agree on failure and stop and

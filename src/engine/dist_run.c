@@ -361,12 +361,9 @@ int psim_dist_attach(psim_sim *e, const psim_scene *sc, psim_error *err)
     return 0;
 }
 
-/* The model's halo, asked once it is made. */
-static int halo(psim_sim *e, psim_error *err)
+int psim_dist_ready(psim_sim *e, psim_error *err)
 {
     psim_dist *d = e->dist;
-    if (d->h > 0)
-        return 0;
     e->model->halo(e, e->mstate, &d->halo);
     d->h = d->halo.reach + d->halo.skin;
     /* domains narrower than the halo: most particles would be ghosts
@@ -397,8 +394,7 @@ void psim_dist_detach(psim_sim *e)
 int psim_dist_prestep(psim_sim *e, psim_error *err)
 {
     psim_dist *d = e->dist;
-    if (halo(e, err))
-        return -1;
+    (void)err;
     double t0 = psim_now();
     if (d->due)
         exchange(e);
@@ -640,6 +636,7 @@ int psim_dist_attach(psim_sim *e, const psim_scene *sc, psim_error *err)
     return -1;
 }
 void psim_dist_detach(psim_sim *e) { (void)e; }
+int psim_dist_ready(psim_sim *e, psim_error *err) { (void)e, (void)err; return 0; }
 int psim_dist_prestep(psim_sim *e, psim_error *err) { (void)e, (void)err; return 0; }
 int psim_dist_poststep(psim_sim *e, int rc, psim_error *err) { (void)e, (void)err; return rc; }
 void psim_dist_sorted(psim_sim *e) { (void)e; }

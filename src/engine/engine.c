@@ -372,7 +372,7 @@ psim_sim *psim_engine_create(psim_scene *sc, const psim_config *cfg,
         e->tstats[k].cpu = -1;
     e->stats.threads = e->threads;
     e->mstate = e->model->create(e, sc, err);
-    if (!e->mstate)
+    if (!e->mstate || (e->dist && psim_dist_ready(e, err)))
         goto fail;
     e->step_time = e->model->step_time ? e->model->step_time(e, e->mstate) : 1.0;
     return e;
