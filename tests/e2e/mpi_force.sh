@@ -10,6 +10,8 @@ source "$(dirname "$0")/lib.sh" "$@"
 
 # as root (CI), and ranks that yield their core while they wait (2 cores)
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_mpi_yield_when_idle=1
+# under LeakSanitizer: whole stacks, so that tests/lsan.supp sees Open MPI's frames
+[[ -n ${LSAN_OPTIONS:-} ]] && export LSAN_OPTIONS="$LSAN_OPTIONS:fast_unwind_on_malloc=0"
 # mpirun -np R PSIM ARGS...
 mpi() { local r=$1; shift; mpirun -q --oversubscribe -np "$r" "$PSIM" "$@"; }
 
