@@ -7,7 +7,7 @@
 #include "psim/topology.h"
 
 /* Pinning options shared by the run and plan commands. */
-enum { CLI_OPT_PIN = 1000, CLI_OPT_TOPOLOGY, CLI_OPT_MEM, CLI_OPT_DRY_RUN };
+enum { CLI_OPT_PIN = 1000, CLI_OPT_TOPOLOGY, CLI_OPT_MEM, CLI_OPT_DRY_RUN, CLI_OPT_RANKS };
 
 typedef struct cli_pin {
     psim_pin_policy policy;
