@@ -81,7 +81,7 @@ PSIM_API int psim_pin_plan_make(const psim_topo *t, const psim_pin_policy *p,
  * kept to this process's CPU mask; threads (0: one per core of the share,
  * one per PU with "all") go on it as psim_pin_plan_make places them.
  * Returns 0; 1 when the share lies wholly outside the mask (plan->share
- * names it, no slots); -2 when the ranks cannot share the policy's cores
+ * names it, plan->cores counts its cores, no slots); -2 when the ranks cannot share the policy's cores
  * (more ranks than cores; "numa" and ranks that fit no NUMA layout); -1 on
  * other errors. */
 PSIM_API int psim_pin_plan_rank(const psim_topo *t, const psim_pin_policy *p, int threads,

@@ -8,6 +8,7 @@
 
 #include "affinity.h"
 #include "cli.h"
+#include "launcher.h"
 #include "options.h"
 #include "paths.h"
 #include "pin.h"
@@ -40,6 +41,44 @@ static psim_topo *load_topo(const char *xml, psim_error *err)
     return load.topo;
 }
 
+/* "rank 1 of 2" or "rank 5 of 8, local 1 of 4". */
+static const char *rank_name(const cli_pin *p, char *buf, size_t len)
+{
+    int n = snprintf(buf, len, "rank %d of %d", p->rank, p->size);
+    if ((p->local_rank != p->rank || p->local_size != p->size) && n > 0 && (size_t)n < len)
+        snprintf(buf + n, len - (size_t)n, ", local %d of %d", p->local_rank, p->local_size);
+    return buf;
+}
+
+/* The plan of this rank's share of the node's ranks: 0, -1 or -2. */
+static int plan_rank(cli_pin *p, int threads, psim_error *err)
+{
+    int rc = psim_pin_plan_rank(p->topo, &p->policy, threads, p->local_rank, p->local_size,
+                                &p->plan, err);
+    if (rc != 1)
+        return rc;
+    char who[64], name[32];
+    cli_err("psim: warning: %s: its share of --pin=%s (%s) is outside the CPUs the "
+            "launcher gave it; pinned within those (start with mpirun --bind-to none or "
+            "--map-by ...:PE=%d)", rank_name(p, who, sizeof who),
+            psim_pin_name(&p->policy, name, sizeof name), p->plan.share,
+            threads > 0 ? threads : p->plan.cores);
+    rc = psim_pin_plan_make(p->topo, &p->policy, threads, &p->plan, err);
+    snprintf(p->plan.share, sizeof p->plan.share, "the launcher's CPUs");
+    return rc;
+}
+
+/* Plan: this rank's share under a launcher, else the whole policy. */
+static int make_plan(cli_pin *p, int threads, psim_error *err)
+{
+    p->ranked = p->policy.kind != PSIM_PIN_NONE &&
+                cli_launcher_rank(&p->rank, &p->size, &p->local_rank, &p->local_size) &&
+                p->local_size > 0;
+    if (p->ranked)
+        return plan_rank(p, threads, err);
+    return psim_pin_plan_make(p->topo, &p->policy, threads, &p->plan, err);
+}
+
 int cli_pin_setup(cli_pin *p, int threads, int quiet)
 {
     psim_error err = {{0}, 0};
@@ -50,9 +89,10 @@ int cli_pin_setup(cli_pin *p, int threads, int quiet)
     if (!needed)
         return 0; /* no topology is loaded for a run that does not pin */
     p->topo = load_topo(p->topology, &err);
-    if (!p->topo || psim_pin_plan_make(p->topo, &p->policy, threads, &p->plan, &err)) {
+    int rc = p->topo ? make_plan(p, threads, &err) : -1;
+    if (rc) {
         cli_err("psim: %s", err.msg);
-        return -1;
+        return rc == -2 ? -2 : -1;
     }
     if (p->plan.threads <= 0)
         p->plan.threads = omp_get_max_threads();
@@ -93,7 +133,12 @@ char *cli_pin_json(const cli_pin *p)
         return NULL;
     char name[32];
     psim_pin_name(&p->policy, name, sizeof name);
-    fprintf(f, "  \"pin\": \"%s\",\n  \"placement\": [", name);
+    fprintf(f, "  \"pin\": \"%s\",\n", name);
+    if (p->ranked)
+        fprintf(f, "  \"rank\": %d,\n  \"ranks\": %d,\n  \"local_rank\": %d,\n"
+                   "  \"local_ranks\": %d,\n  \"share\": \"%s\",\n",
+                p->rank, p->size, p->local_rank, p->local_size, p->plan.share);
+    fprintf(f, "  \"placement\": [");
     for (int k = 0; p->plan.slot && k < p->plan.threads; k++) {
         const psim_pin_slot *s2 = &p->plan.slot[k];
         fprintf(f, "%s\n    {\"thread\": %d, \"pu\": %d, \"observed_pu\": %d, \"core\": %d, "
@@ -131,9 +176,12 @@ void cli_pin_summary(FILE *f, const cli_pin *p, const psim_sim *s)
                 cli_binders_removed());
     if (getenv("LIKWID_PIN") && psim_topo_is_this_system(p->topo))
         fprintf(f, "  --pin places the threads: likwid-pin's placement replaced\n");
-    char name[32];
+    char name[32], who[64];
     int as_planned = 1;
-    fprintf(f, "  --pin=%s: thread->PU", psim_pin_name(&p->policy, name, sizeof name));
+    fprintf(f, "  --pin=%s", psim_pin_name(&p->policy, name, sizeof name));
+    if (p->ranked)
+        fprintf(f, " (%s: %s)", rank_name(p, who, sizeof who), p->plan.share);
+    fprintf(f, ": thread->PU");
     for (int k = 0; k < p->plan.threads; k++) {
         fprintf(f, " %d->%d", k, p->observed ? p->observed[k] : -1);
         as_planned &= p->observed && p->observed[k] == p->plan.slot[k].pu;

@@ -598,13 +598,13 @@ int psim_pin_plan_rank(const psim_topo *t, const psim_pin_policy *p, int threads
         int whole = 0;
         for (int c = 0; c < t->ncores; c++)
             whole += sel[c];
-        plan->cores = mask_cores(t, sel);
-        if (plan->cores && plan->cores < whole)
+        int kept = mask_cores(t, sel);
+        plan->cores = kept ? kept : whole; /* none in the mask: the share's */
+        if (kept && kept < whole)
             snprintf(plan->notice, sizeof plan->notice,
                      "rank %d of %d: left out %d of the %d cores of its share (%s), outside "
-                     "this process's CPU mask", rank, ranks, whole - plan->cores, whole,
-                     plan->share);
-        rc = plan->cores == 0 ? 1 : plan_slots(t, p, sel, threads, plan, err);
+                     "this process's CPU mask", rank, ranks, whole - kept, whole, plan->share);
+        rc = kept ? plan_slots(t, p, sel, threads, plan, err) : 1;
     }
     free(sel);
     free(dom);
