@@ -513,8 +513,8 @@ static int share_cores(const psim_topo *t, const psim_pin_policy *p, char *sel, 
     char name[32];
     psim_pin_name(p, name, sizeof name);
     if (ranks > n) {
-        psim_error_set(err, "--ranks %d: more ranks than the %d cores of --pin=%s", ranks, n,
-                       name);
+        psim_error_set(err, "%d ranks on this machine: more than the %d cores of --pin=%s",
+                       ranks, n, name);
         return -2;
     }
     int nodes = domains(t, sel, 0, dom), by_kind = 0, len = 0;
