@@ -8,6 +8,7 @@
 
 #include "affinity.h"
 #include "cli.h"
+#include "launcher.h"
 #include "options.h"
 #include "paths.h"
 #include "pin.h"
@@ -40,6 +41,44 @@ static psim_topo *load_topo(const char *xml, psim_error *err)
     return load.topo;
 }
 
+/* "rank 1 of 2" or "rank 5 of 8, local 1 of 4". */
+static const char *rank_name(const cli_pin *p, char *buf, size_t len)
+{
+    int n = snprintf(buf, len, "rank %d of %d", p->rank, p->size);
+    if ((p->local_rank != p->rank || p->local_size != p->size) && n > 0 && (size_t)n < len)
+        snprintf(buf + n, len - (size_t)n, ", local %d of %d", p->local_rank, p->local_size);
+    return buf;
+}
+
+/* The plan of this rank's share of the node's ranks: 0, -1 or -2. */
+static int plan_rank(cli_pin *p, int threads, psim_error *err)
+{
+    int rc = psim_pin_plan_rank(p->topo, &p->policy, threads, p->local_rank, p->local_size,
+                                &p->plan, err);
+    if (rc != 1)
+        return rc;
+    char who[64], name[32];
+    cli_err("psim: warning: %s: its share of --pin=%s (%s) is outside the CPUs the "
+            "launcher gave it; pinned within those (start with mpirun --bind-to none or "
+            "--map-by ...:PE=%d)", rank_name(p, who, sizeof who),
+            psim_pin_name(&p->policy, name, sizeof name), p->plan.share,
+            threads > 0 ? threads : p->plan.cores);
+    rc = psim_pin_plan_make(p->topo, &p->policy, threads, &p->plan, err);
+    snprintf(p->plan.share, sizeof p->plan.share, "the launcher's CPUs");
+    return rc;
+}
+
+/* Plan: this rank's share under a launcher, else the whole policy. */
+static int make_plan(cli_pin *p, int threads, psim_error *err)
+{
+    p->ranked = p->policy.kind != PSIM_PIN_NONE &&
+                cli_launcher_rank(&p->rank, &p->size, &p->local_rank, &p->local_size) &&
+                p->local_size > 0;
+    if (p->ranked)
+        return plan_rank(p, threads, err);
+    return psim_pin_plan_make(p->topo, &p->policy, threads, &p->plan, err);
+}
+
 int cli_pin_setup(cli_pin *p, int threads, int quiet)
 {
     psim_error err = {{0}, 0};
@@ -50,9 +89,10 @@ int cli_pin_setup(cli_pin *p, int threads, int quiet)
     if (!needed)
         return 0; /* no topology is loaded for a run that does not pin */
     p->topo = load_topo(p->topology, &err);
-    if (!p->topo || psim_pin_plan_make(p->topo, &p->policy, threads, &p->plan, &err)) {
+    int rc = p->topo ? make_plan(p, threads, &err) : -1;
+    if (rc) {
         cli_err("psim: %s", err.msg);
-        return -1;
+        return rc == -2 ? -2 : -1;
     }
     if (p->plan.threads <= 0)
         p->plan.threads = omp_get_max_threads();
@@ -93,7 +133,12 @@ char *cli_pin_json(const cli_pin *p)
         return NULL;
     char name[32];
     psim_pin_name(&p->policy, name, sizeof name);
-    fprintf(f, "  \"pin\": \"%s\",\n  \"placement\": [", name);
+    fprintf(f, "  \"pin\": \"%s\",\n", name);
+    if (p->ranked)
+        fprintf(f, "  \"rank\": %d,\n  \"ranks\": %d,\n  \"local_rank\": %d,\n"
+                   "  \"local_ranks\": %d,\n  \"share\": \"%s\",\n",
+                p->rank, p->size, p->local_rank, p->local_size, p->plan.share);
+    fprintf(f, "  \"placement\": [");
     for (int k = 0; p->plan.slot && k < p->plan.threads; k++) {
         const psim_pin_slot *s2 = &p->plan.slot[k];
         fprintf(f, "%s\n    {\"thread\": %d, \"pu\": %d, \"observed_pu\": %d, \"core\": %d, "
@@ -131,9 +176,12 @@ void cli_pin_summary(FILE *f, const cli_pin *p, const psim_sim *s)
                 cli_binders_removed());
     if (getenv("LIKWID_PIN") && psim_topo_is_this_system(p->topo))
         fprintf(f, "  --pin places the threads: likwid-pin's placement replaced\n");
-    char name[32];
+    char name[32], who[64];
     int as_planned = 1;
-    fprintf(f, "  --pin=%s: thread->PU", psim_pin_name(&p->policy, name, sizeof name));
+    fprintf(f, "  --pin=%s", psim_pin_name(&p->policy, name, sizeof name));
+    if (p->ranked)
+        fprintf(f, " (%s: %s)", rank_name(p, who, sizeof who), p->plan.share);
+    fprintf(f, ": thread->PU");
     for (int k = 0; k < p->plan.threads; k++) {
         fprintf(f, " %d->%d", k, p->observed ? p->observed[k] : -1);
         as_planned &= p->observed && p->observed[k] == p->plan.slot[k].pu;
@@ -184,18 +232,50 @@ static void plan_usage(FILE *f, const char *cmd)
                    "      --topology FILE.xml  the hwloc XML topology of another machine\n"
                    "                    to summarise instead of this one\n");
     else
-        fprintf(f, "usage: psim plan [--pin POLICY] [--threads N] [--topology FILE.xml]\n\n"
-                   "Print where each thread would run: thread, PU, core, CPU kind, NUMA node.\n\n"
+        fprintf(f, "usage: psim plan [--ranks R] [--pin POLICY] [--threads N]\n"
+                   "                 [--topology FILE.xml]\n\n"
+                   "Print where each thread would run: thread, PU, core, CPU kind, NUMA node\n"
+                   "(and rank, with --ranks).\n\n"
                    "options:\n"
-                   "      --pin POLICY  pcores, ecores, cores, all, numa:K or none (default:\n"
-                   "                    cores), as psim --pin takes them\n"
-                   "  -t, --threads N   threads to place (default: one per core of the\n"
-                   "                    policy, one per hardware thread with all; with none,\n"
+                   "      --ranks R     plan R ranks of an MPI launcher on this machine:\n"
+                   "                    whole NUMA nodes or CPU kinds each where R fits\n"
+                   "                    them, else equal blocks of cores (docs/pinning.md)\n"
+                   "      --pin POLICY  pcores, ecores, cores, all, numa, numa:K or none\n"
+                   "                    (default: cores), as psim --pin takes them\n"
+                   "  -t, --threads N   threads to place (per rank with --ranks; default:\n"
+                   "                    one per core of the policy or the rank's share, one\n"
+                   "                    per hardware thread with all; with none,\n"
                    "                    OMP_NUM_THREADS, else all cores)\n"
                    "      --topology FILE.xml  the hwloc XML topology of another machine\n"
                    "                    to plan on instead of this one\n");
     fprintf(f, "  -h, --help        show this help\n"
                "  -V, --version     show the version\n");
+}
+
+/* psim plan --ranks: every rank's plan; the exit status. */
+static int plan_ranks(const cli_pin *p, int threads, int ranks)
+{
+    psim_pin_plan *plans = calloc((size_t)ranks, sizeof *plans);
+    psim_error err = {{0}, 0};
+    int rc = plans ? 0 : -1, made = 0;
+    if (!plans)
+        snprintf(err.msg, sizeof err.msg, "out of memory");
+    for (; rc == 0 && made < ranks; made++) {
+        rc = psim_pin_plan_rank(p->topo, &p->policy, threads, made, ranks, &plans[made], &err);
+        if (rc == 1)
+            snprintf(err.msg, sizeof err.msg, "--ranks %d: the share of rank %d (%s) is "
+                     "outside this process's CPU mask", ranks, made, plans[made].share);
+        if (rc == 0 && plans[made].notice[0])
+            cli_err("psim: notice: %s", plans[made].notice);
+    }
+    if (rc == 0)
+        psim_pin_plans_print(stdout, p->topo, plans, ranks);
+    else
+        cli_err("psim: %s", err.msg);
+    for (int r = 0; r < made; r++)
+        psim_pin_plan_free(&plans[r]);
+    free(plans);
+    return rc == 0 ? 0 : rc == -2 ? 2 : 1;
 }
 
 /* psim plan / psim topo */
@@ -205,6 +285,7 @@ int cli_plan(int argc, char **argv)
         {"pin", required_argument, 0, CLI_OPT_PIN},
         {"topology", required_argument, 0, CLI_OPT_TOPOLOGY},
         {"threads", required_argument, 0, 't'},
+        {"ranks", required_argument, 0, CLI_OPT_RANKS},
         {"help", no_argument, 0, 'h'},
         {"version", no_argument, 0, 'V'},
         {0, 0, 0, 0}};
@@ -212,7 +293,7 @@ int cli_plan(int argc, char **argv)
     int topo_only = strcmp(cmd, "topo") == 0;
     cli_pin p = {0};
     p.policy.kind = PSIM_PIN_CORES;
-    long threads = 0;
+    long threads = 0, ranks = 0;
     opterr = 0;
     optind = 1;
     int c;
@@ -226,6 +307,9 @@ int cli_plan(int argc, char **argv)
         } else if (c == 't' && !topo_only) {
             if (cli_long("--threads", optarg, 1, CLI_MAX_THREADS, &threads))
                 return 2;
+        } else if (c == CLI_OPT_RANKS && !topo_only) {
+            if (cli_long("--ranks", optarg, 1, CLI_MAX_THREADS, &ranks))
+                return 2;
         } else if ((c == CLI_OPT_PIN && !topo_only) || c == CLI_OPT_TOPOLOGY) {
             if (cli_pin_option(&p, c, optarg))
                 return 2;
@@ -233,13 +317,18 @@ int cli_plan(int argc, char **argv)
             cli_bad_option(cmd, argv, c);
             return 2;
         } else {
-            cli_err("psim %s: %s is not an option of psim %s (see psim %s --help)",
-                    cmd, c == 't' ? "--threads" : "--pin", cmd, cmd);
+            cli_err("psim %s: %s is not an option of psim %s (see psim %s --help)", cmd,
+                    c == 't' ? "--threads" : c == CLI_OPT_RANKS ? "--ranks" : "--pin", cmd,
+                    cmd);
             return 2;
         }
     }
     if (optind < argc) {
         cli_err("psim %s: unexpected argument '%s'", cmd, argv[optind]);
+        return 2;
+    }
+    if (ranks && p.policy.kind == PSIM_PIN_NONE) {
+        cli_err("psim plan: --ranks needs a --pin policy other than none");
         return 2;
     }
     /* what it prints must not overwrite the topology it reads */
@@ -257,6 +346,8 @@ int cli_plan(int argc, char **argv)
     int rc = 0;
     if (topo_only) {
         psim_topo_print(stdout, p.topo);
+    } else if (ranks) {
+        rc = plan_ranks(&p, (int)threads, (int)ranks);
     } else if (psim_pin_plan_make(p.topo, &p.policy, (int)threads, &p.plan, &err)) {
         cli_err("psim: %s", err.msg);
         rc = 1;

@@ -580,8 +580,11 @@ int cli_run(int argc, char **argv)
     long steps = o.steps >= 0 ? o.steps * o.substeps : sc.steps;
     /* pinned before the engine allocates, so first touch lands on the
      * planned cores */
-    if (cli_pin_setup(&o.pin, (int)o.threads, o.quiet))
+    int pin_rc = cli_pin_setup(&o.pin, (int)o.threads, o.quiet);
+    if (pin_rc) {
+        rc = pin_rc == -2 ? 2 : 1;
         goto done;
+    }
     /* the team's threads register with LIKWID, which pins them, before
      * the engine's first touch of its memory */
     psim_markers_threads(o.pin.plan.threads);

@@ -239,6 +239,10 @@ int psim_pin_parse(const char *s, psim_pin_policy *p, psim_error *err)
             p->kind = names[k].kind;
             return 0;
         }
+    if (strcmp(s, "numa") == 0) {
+        p->kind = PSIM_PIN_NUMA;
+        return 0;
+    }
     if (strncmp(s, "numa:", 5) == 0) {
         char *end;
         long v = strtol(s + 5, &end, 10);
@@ -249,14 +253,14 @@ int psim_pin_parse(const char *s, psim_pin_policy *p, psim_error *err)
         }
     }
     psim_error_set(err, "--pin: unknown policy '%s' (pcores, ecores, cores, all, "
-                        "numa:K, none)", s);
+                        "numa, numa:K, none)", s);
     return -1;
 }
 
 const char *psim_pin_name(const psim_pin_policy *p, char *buf, size_t len)
 {
     static const char *names[] = {"none", "pcores", "ecores", "cores", "all", "numa"};
-    if (p->kind == PSIM_PIN_NUMA)
+    if (p->kind == PSIM_PIN_NUMA && p->numa >= 0)
         snprintf(buf, len, "numa:%d", p->numa);
     else
         snprintf(buf, len, "%s", names[p->kind]);
@@ -274,14 +278,22 @@ static int numa_of_pu(hwloc_topology_t h, unsigned pu)
     return -1;
 }
 
-/* Which cores a policy covers: sel[c] = 1. Returns their number or -1. */
+static int numa_of_core(const psim_topo *t, int c)
+{
+    hwloc_obj_t core = hwloc_get_obj_by_type(t->h, t->core_type, (unsigned)c);
+    int pu = hwloc_bitmap_first(core->cpuset);
+    return pu < 0 ? -1 : numa_of_pu(t->h, (unsigned)pu);
+}
+
+/* Which cores a policy covers: sel[c] = 1, within this process's CPU mask
+ * when masked. Returns their number or -1. */
 static int select_cores(const psim_topo *t, const psim_pin_policy *p, char *sel,
-                        char *notice, size_t nlen, psim_error *err)
+                        char *notice, size_t nlen, int masked, psim_error *err)
 {
     char name[32];
     psim_pin_name(p, name, sizeof name);
     hwloc_obj_t node = NULL;
-    if (p->kind == PSIM_PIN_NUMA) {
+    if (p->kind == PSIM_PIN_NUMA && p->numa >= 0) {
         int nodes = hwloc_get_nbobjs_by_type(t->h, HWLOC_OBJ_NUMANODE);
         node = hwloc_get_obj_by_type(t->h, HWLOC_OBJ_NUMANODE, (unsigned)p->numa);
         if (!node) {
@@ -306,7 +318,9 @@ static int select_cores(const psim_topo *t, const psim_pin_policy *p, char *sel,
             in = t->core_kind[c] == want;
         if (node)
             in = node->cpuset && hwloc_bitmap_intersects(core->cpuset, node->cpuset);
-        int ok = !t->allowed || hwloc_bitmap_intersects(core->cpuset, t->allowed);
+        else if (p->kind == PSIM_PIN_NUMA)
+            in = numa_of_core(t, c) >= 0;
+        int ok = !masked || !t->allowed || hwloc_bitmap_intersects(core->cpuset, t->allowed);
         cut += in && !ok;
         in = in && ok;
         sel[c] = (char)in;
@@ -328,22 +342,12 @@ static int select_cores(const psim_topo *t, const psim_pin_policy *p, char *sel,
     return count;
 }
 
-int psim_pin_plan_make(const psim_topo *t, const psim_pin_policy *p,
-                       int threads, psim_pin_plan *plan, psim_error *err)
+/* The plan's slots on the chosen cores sel (plan->cores of them). */
+static int plan_slots(const psim_topo *t, const psim_pin_policy *p, const char *sel,
+                      int threads, psim_pin_plan *plan, psim_error *err)
 {
-    memset(plan, 0, sizeof *plan);
-    plan->policy = *p;
-    plan->threads = threads;
-    if (p->kind == PSIM_PIN_NONE)
-        return 0;
-    char *sel = calloc((size_t)t->ncores + 1, 1);
     psim_pin_slot *slots = NULL;
     int rc = -1;
-    if (!sel)
-        goto oom;
-    plan->cores = select_cores(t, p, sel, plan->notice, sizeof plan->notice, err);
-    if (plan->cores < 0)
-        goto done;
     /* slots: the first PU of every chosen core, then their second PUs, ... */
     int npu_max = hwloc_get_nbobjs_by_type(t->h, HWLOC_OBJ_PU);
     slots = calloc((size_t)npu_max + 1, sizeof *slots);
@@ -395,8 +399,215 @@ int psim_pin_plan_make(const psim_topo *t, const psim_pin_policy *p,
 oom:
     psim_error_set(err, "out of memory");
 done:
-    free(sel);
     free(slots);
+    return rc;
+}
+
+int psim_pin_plan_make(const psim_topo *t, const psim_pin_policy *p,
+                       int threads, psim_pin_plan *plan, psim_error *err)
+{
+    memset(plan, 0, sizeof *plan);
+    plan->policy = *p;
+    plan->threads = threads;
+    if (p->kind == PSIM_PIN_NONE)
+        return 0;
+    char *sel = calloc((size_t)t->ncores + 1, 1);
+    if (!sel) {
+        psim_error_set(err, "out of memory");
+        return -1;
+    }
+    plan->cores = select_cores(t, p, sel, plan->notice, sizeof plan->notice, 1, err);
+    int rc = plan->cores < 0 ? -1 : plan_slots(t, p, sel, threads, plan, err);
+    free(sel);
+    return rc;
+}
+
+/* ---- ranks' shares ------------------------------------------------------- */
+
+/* Which of `parts` near-equal blocks of m items item i falls in (the first
+ * m % parts blocks one larger). */
+static int block_of(int i, int m, int parts)
+{
+    int q = m / parts, r = m % parts;
+    return i < r * (q + 1) ? i / (q + 1) : r + (i - r * (q + 1)) / q;
+}
+
+/* The domains of the chosen cores: dom[c] for each, and how many distinct
+ * ones (numbered 0.. in the order ranks take them); -1 when some chosen
+ * core has none.  NUMA nodes go in topology order, CPU kinds from the
+ * most efficient. */
+static int domains(const psim_topo *t, const char *sel, int by_kind, int *dom)
+{
+    int n = by_kind ? t->nkinds : hwloc_get_nbobjs_by_type(t->h, HWLOC_OBJ_NUMANODE);
+    char *seen = calloc((size_t)(n > 0 ? n : 1), 1);
+    int *num = calloc((size_t)(n > 0 ? n : 1), sizeof *num), count = 0, bad = !seen || !num;
+    for (int c = 0; c < t->ncores && !bad; c++) {
+        if (!sel[c])
+            continue;
+        int d = by_kind ? t->nkinds - 1 - t->core_kind[c] : numa_of_core(t, c);
+        bad = d < 0 || d >= n;
+        if (!bad)
+            seen[d] = 1, dom[c] = d;
+    }
+    for (int d = 0; d < n && !bad; d++)
+        num[d] = seen[d] ? count++ : -1;
+    for (int c = 0; c < t->ncores && !bad; c++)
+        if (sel[c])
+            dom[c] = num[dom[c]];
+    free(seen);
+    free(num);
+    return bad ? -1 : count;
+}
+
+/* Keep in sel the cores whose domain is in [first, first + len) and, of
+ * those, block `sub` of `parts`.  Cores outside any domain: dom NULL. */
+static void keep(const psim_topo *t, char *sel, const int *dom, int first, int len,
+                 int sub, int parts)
+{
+    int m = 0, i = 0;
+    for (int c = 0; c < t->ncores; c++)
+        m += sel[c] && (!dom || (dom[c] >= first && dom[c] < first + len));
+    for (int c = 0; c < t->ncores; c++) {
+        if (!sel[c])
+            continue;
+        int in = !dom || (dom[c] >= first && dom[c] < first + len);
+        sel[c] = (char)(in && block_of(i, m, parts) == sub);
+        i += in;
+    }
+}
+
+/* "NUMA node 1", "NUMA nodes 0-3" or "IntelCore", from the first core
+ * kept. */
+static void name_domain(const psim_topo *t, const char *sel, int by_kind, int len,
+                        char *buf, size_t blen)
+{
+    int c = 0;
+    while (c < t->ncores && !sel[c])
+        c++;
+    if (by_kind) {
+        snprintf(buf, blen, "%s", psim_topo_kind_name(t, t->core_kind[c]));
+        for (int o = c + 1; o < t->ncores; o++)
+            if (sel[o] && t->core_kind[o] != t->core_kind[c]) {
+                snprintf(buf, blen, "%d CPU kinds", len);
+                break;
+            }
+        return;
+    }
+    int last = c;
+    for (int o = c; o < t->ncores; o++)
+        if (sel[o])
+            last = o;
+    int a = numa_of_core(t, c), b = numa_of_core(t, last);
+    if (a == b)
+        snprintf(buf, blen, "NUMA node %d", a);
+    else
+        snprintf(buf, blen, "NUMA nodes %d-%d", a, b);
+}
+
+/* Cut the policy's cores sel (n of them) down to rank's share and name it
+ * in share ("" for plain blocks).  Returns 0, or -2 with err set. */
+static int share_cores(const psim_topo *t, const psim_pin_policy *p, char *sel, int n,
+                       int rank, int ranks, int *dom, char *share, size_t slen,
+                       psim_error *err)
+{
+    char name[32];
+    psim_pin_name(p, name, sizeof name);
+    if (ranks > n) {
+        psim_error_set(err, "%d ranks on this machine: more than the %d cores of --pin=%s",
+                       ranks, n, name);
+        return -2;
+    }
+    int nodes = domains(t, sel, 0, dom), by_kind = 0, len = 0;
+    if (nodes > 0 && nodes % ranks == 0) {
+        len = nodes / ranks;
+        keep(t, sel, dom, rank * len, len, 0, 1);
+    } else if (p->kind != PSIM_PIN_NUMA && t->nkinds > 1 &&
+               (len = domains(t, sel, 1, dom)) > 1 && len % ranks == 0) {
+        by_kind = 1;
+        len /= ranks;
+        keep(t, sel, dom, rank * len, len, 0, 1);
+    } else if (nodes > 1 && ranks % nodes == 0) {
+        domains(t, sel, 0, dom);
+        int per = ranks / nodes;
+        len = 1;
+        keep(t, sel, dom, rank / per, 1, rank % per, per);
+    } else if (p->kind == PSIM_PIN_NUMA) {
+        psim_error_set(err, "--pin=numa: %d ranks fit neither whole nor equal parts of the "
+                            "%d NUMA nodes", ranks, nodes);
+        return -2;
+    } else {
+        keep(t, sel, NULL, 0, 0, rank, ranks);
+        share[0] = 0;
+        return 0;
+    }
+    name_domain(t, sel, by_kind, len, share, slen);
+    return 0;
+}
+
+/* Append ", cores 2-3" (or "cores 2-3" to an empty share). */
+static void name_cores(const psim_topo *t, const char *sel, char *share, size_t slen)
+{
+    hwloc_bitmap_t set = hwloc_bitmap_alloc();
+    char list[64] = "?";
+    for (int c = 0; c < t->ncores && set; c++)
+        if (sel[c])
+            hwloc_bitmap_set(set, (unsigned)c);
+    if (set)
+        hwloc_bitmap_list_snprintf(list, sizeof list, set);
+    hwloc_bitmap_free(set);
+    size_t used = strlen(share);
+    snprintf(share + used, slen - used, "%score%s %s", used ? ", " : "",
+             strpbrk(list, ",-") ? "s" : "", list);
+}
+
+/* Keep sel to this process's CPU mask; returns the cores left. */
+static int mask_cores(const psim_topo *t, char *sel)
+{
+    int count = 0;
+    for (int c = 0; c < t->ncores; c++) {
+        hwloc_obj_t core = hwloc_get_obj_by_type(t->h, t->core_type, (unsigned)c);
+        sel[c] = (char)(sel[c] &&
+                        (!t->allowed || hwloc_bitmap_intersects(core->cpuset, t->allowed)));
+        count += sel[c];
+    }
+    return count;
+}
+
+int psim_pin_plan_rank(const psim_topo *t, const psim_pin_policy *p, int threads,
+                       int rank, int ranks, psim_pin_plan *plan, psim_error *err)
+{
+    memset(plan, 0, sizeof *plan);
+    plan->policy = *p;
+    plan->threads = threads;
+    plan->rank = rank;
+    plan->ranks = ranks;
+    if (p->kind == PSIM_PIN_NONE)
+        return 0;
+    char *sel = calloc((size_t)t->ncores + 1, 1);
+    int *dom = calloc((size_t)t->ncores + 1, sizeof *dom);
+    int rc = -1;
+    if (!sel || !dom)
+        psim_error_set(err, "out of memory");
+    int n = sel && dom ? select_cores(t, p, sel, plan->notice, sizeof plan->notice, 0, err)
+                       : -1;
+    if (n >= 0)
+        rc = share_cores(t, p, sel, n, rank, ranks, dom, plan->share, sizeof plan->share,
+                         err);
+    if (rc == 0) {
+        name_cores(t, sel, plan->share, sizeof plan->share);
+        int whole = 0;
+        for (int c = 0; c < t->ncores; c++)
+            whole += sel[c];
+        int kept = mask_cores(t, sel);
+        plan->cores = kept ? kept : whole; /* none in the mask: the share's */
+        if (kept && kept < whole)
+            snprintf(plan->notice, sizeof plan->notice,
+                     "rank %d of %d: left out %d of the %d cores of its share (%s), outside "
+                     "this process's CPU mask", rank, ranks, whole - kept, whole, plan->share);
+        rc = kept ? plan_slots(t, p, sel, threads, plan, err) : 1;
+    }
+    free(sel);
+    free(dom);
     return rc;
 }
 
@@ -488,6 +699,31 @@ void psim_pin_plan_print(FILE *f, const psim_topo *t, const psim_pin_plan *plan)
         fprintf(f, "%6d %5d %5d %-12s %5s\n", k, s->pu, s->core,
                 psim_topo_kind_name(t, s->kind), s->numa < 0 ? "-" : numa);
     }
+}
+
+void psim_pin_plans_print(FILE *f, const psim_topo *t, const psim_pin_plan *plans,
+                          int ranks)
+{
+    char name[32];
+    int threads = 0, cores = 0, pus = 0;
+    for (int r = 0; r < ranks; r++)
+        threads += plans[r].threads, cores += plans[r].cores, pus += plans[r].pus;
+    fprintf(f, "--pin=%s: %d ranks, %d threads on %d cores (%d hardware threads)%s\n",
+            psim_pin_name(&plans[0].policy, name, sizeof name), ranks, threads, cores, pus,
+            psim_topo_is_this_system(t) ? "" : ", planned on a foreign topology: not bound");
+    for (int r = 0; r < ranks; r++)
+        fprintf(f, "rank %d: %s, %d thread%s\n", r, plans[r].share, plans[r].threads,
+                plans[r].threads == 1 ? "" : "s");
+    fprintf(f, "%5s %6s %5s %5s %-12s %5s\n", "rank", "thread", "PU", "core", "CPU kind",
+            "NUMA");
+    for (int r = 0; r < ranks; r++)
+        for (int k = 0; k < plans[r].threads; k++) {
+            const psim_pin_slot *s = &plans[r].slot[k];
+            char numa[16];
+            snprintf(numa, sizeof numa, "%d", s->numa);
+            fprintf(f, "%5d %6d %5d %5d %-12s %5s\n", r, k, s->pu, s->core,
+                    psim_topo_kind_name(t, s->kind), s->numa < 0 ? "-" : numa);
+        }
 }
 
 static void print_list(FILE *f, hwloc_const_bitmap_t set)

@@ -236,6 +236,51 @@ static void test_this_machine(void)
     CHECK(strstr(err.msg, "/nonexistent.xml: cannot read") != NULL);
 }
 
+/* Rank `rank` of `ranks`: its PUs and its share's name. */
+static void expect_rank(const psim_topo *t, const char *policy, int threads, int rank,
+                        int ranks, int want_rc, const char *pus, const char *share)
+{
+    psim_pin_policy p;
+    psim_pin_plan plan;
+    psim_error err = {{0}, 0};
+    CHECK(psim_pin_parse(policy, &p, &err) == 0);
+    int rc = psim_pin_plan_rank(t, &p, threads, rank, ranks, &plan, &err);
+    CHECK_MSG(rc == want_rc, "--pin=%s rank %d of %d: rc %d (%s)", policy, rank, ranks, rc,
+              err.msg);
+    if (rc == 0) {
+        char got[512] = "";
+        for (int k = 0; k < plan.threads; k++) {
+            char one[16];
+            snprintf(one, sizeof one, "%s%d", k ? "," : "", plan.slot[k].pu);
+            strcat(got, one);
+        }
+        CHECK_MSG(strcmp(got, pus) == 0, "--pin=%s rank %d of %d: got %s, want %s", policy,
+                  rank, ranks, got, pus);
+        CHECK_MSG(strcmp(plan.share, share) == 0, "rank %d of %d: share '%s', want '%s'",
+                  rank, ranks, plan.share, share);
+    }
+    psim_pin_plan_free(&plan);
+}
+
+static void test_ranks(void)
+{
+    psim_topo *t = build("pack:1 numa:8 core:2 pu:1", NULL, NULL, 0);
+    expect_rank(t, "cores", 0, 5, 8, 0, "10,11", "NUMA node 5, cores 10-11");
+    expect_rank(t, "numa", 0, 1, 4, 0, "4,5,6,7", "NUMA nodes 2-3, cores 4-7");
+    expect_rank(t, "numa", 0, 3, 16, 0, "3", "NUMA node 1, core 3");
+    expect_rank(t, "cores", 1, 2, 3, 0, "11", "cores 11-15");
+    expect_rank(t, "cores", 0, 0, 17, -2, "", "");
+    expect_rank(t, "numa", 0, 0, 3, -2, "", "");
+    psim_topo_free(t);
+    kind_spec kinds[] = {{"12,14,16,18,20,22,24,26", 0, "IntelAtom", "3900"},
+                         {"0-11", 1, "IntelCore", "5000"}};
+    t = build("pack:1 core:14 pu:2", "0-12,14,16,18,20,22,24,26", kinds, 2);
+    expect_rank(t, "cores", 0, 0, 2, 0, "0,2,4,6,8,10", "IntelCore, cores 0-5");
+    expect_rank(t, "cores", 3, 1, 2, 0, "12,14,16", "IntelAtom, cores 6-13");
+    expect_rank(t, "cores", 0, 2, 7, 0, "8,10", "cores 4-5");
+    psim_topo_free(t);
+}
+
 int main(void)
 {
     test_hybrid();
@@ -245,5 +290,6 @@ int main(void)
     test_plain();
     test_parse();
     test_this_machine();
+    test_ranks();
     return check_done();
 }
