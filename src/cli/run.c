@@ -473,7 +473,7 @@ static int ranks_refuse(const run_opts *o)
 }
 
 /* The figures of every rank, as --stats JSON members (rank 0). */
-static char *ranks_json(const psim_sim *s, const psim_rank_stats *per, int n)
+static char *ranks_json(const psim_sim *s, const psim_rank_stats *per, int n, int pinned)
 {
     char *buf = NULL;
     size_t len = 0;
@@ -488,8 +488,10 @@ static char *ranks_json(const psim_sim *s, const psim_rank_stats *per, int n)
             busy += per[q].phase_s[p];
         most = busy > most ? busy : most, sum += busy;
     }
-    fprintf(f, "  \"ranks\": %d,\n  \"imbalance\": %.4f,\n  \"per_rank\": [", n,
-            sum > 0 ? most / (sum / n) : 1.0);
+    /* (pinned under a launcher, the pin section has "rank" and "ranks") */
+    if (!pinned)
+        fprintf(f, "  \"ranks\": %d,\n", n);
+    fprintf(f, "  \"imbalance\": %.4f,\n  \"per_rank\": [", sum > 0 ? most / (sum / n) : 1.0);
     for (int q = 0; q < n; q++) {
         const psim_rank_stats *r = &per[q];
         fprintf(f, "%s\n    {\"rank\": %d, \"threads\": %d, \"owned\": %ld, \"ghosts\": %ld, "
@@ -660,7 +662,8 @@ int cli_run(int argc, char **argv)
     if (rs.stats.f) {
         char *pin_json = cli_pin_json(&o.pin), *thr_json = cli_threads_json(s, &o.pin),
              *prov_json = cli_provenance_json(&start);
-        char *extra = NULL, *rk_json = per ? ranks_json(s, per, ranks) : strdup("  \"ranks\": 1");
+        char *extra = NULL, *rk_json = per ? ranks_json(s, per, ranks, o.pin.ranked)
+                                  : strdup(o.pin.ranked ? "  \"imbalance\": 1" : "  \"ranks\": 1");
         if (pin_json && thr_json && prov_json && rk_json &&
             asprintf(&extra, "  \"read_s\": %.6f,\n  \"peak_rss_bytes\": %lld,\n%s,\n%s,\n%s,\n%s\n",
                      o.read_s, cli_peak_rss(), pin_json, thr_json, prov_json, rk_json) < 0)

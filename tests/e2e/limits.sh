@@ -27,9 +27,17 @@ no_outputs()
 if [[ $build != "sanitizers off" ]]; then
     echo "limits: address-space cases need a build without sanitizers ($build)"
 else
-    # (below about 10 MB the loader cannot map the libraries: its own line,
-    # before any code of psim runs)
-    for kb in 12000 16000; do
+    # (below some megabytes the loader cannot map the libraries: its own
+    # line, exit 127, before any code of psim runs; the first limit it
+    # can, and one above it, get psim's line)
+    low=8000
+    while ((low < 200000)); do
+        rc=0
+        bash -c "ulimit -v $low; exec '$PSIM' -q --final '$tmp/f.out' '$tmp/s.in'" 2>/dev/null || rc=$?
+        ((rc == 127)) || break
+        low=$((low + 2000))
+    done
+    for kb in $low $((low + 4000)); do
         expect_fail --rc 1 "address-space limit (ulimit -v) of $kb kB is too small: psim needs at least" \
             bash -c "ulimit -v $kb; exec '$PSIM' -q --final '$tmp/f.out' '$tmp/s.in'"
         no_outputs "ulimit -v $kb"
