@@ -38,7 +38,11 @@ expect_fail --rc 2 "17 ranks on this machine: more than the 16 cores of --pin=co
 expect_fail --rc 2 "--pin=numa: 3 ranks fit neither" "$PSIM" plan --topology "$numa8" --ranks 3 --pin numa
 expect_fail --rc 2 "--ranks needs a --pin policy" "$PSIM" plan --topology "$numa8" --ranks 2 --pin none
 
-# a run under a launcher (its variables set by hand) pins to its share
+# a run under a launcher (its variables set by hand, so psim starts MPI
+# alone) pins to its share; under LeakSanitizer whole stacks, so that
+# tests/lsan.supp sees Open MPI's frames
+[[ -n ${LSAN_OPTIONS:-} ]] && export LSAN_OPTIONS="$LSAN_OPTIONS:fast_unwind_on_malloc=0"
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 gen "$tmp/s.in" --n 2000 --density 0.6 --r 1 --steps 5 --seed 4
 ompi() { env OMPI_COMM_WORLD_RANK="$1" OMPI_COMM_WORLD_SIZE="$2" OMPI_COMM_WORLD_LOCAL_RANK="$1" OMPI_COMM_WORLD_LOCAL_SIZE="$2" "${@:3}"; }
 run_ok "$PSIM" --quiet --threads 1 --out "$tmp/free.out" "$tmp/s.in"
