@@ -277,6 +277,8 @@ static int checkpoint(const run_opts *o, psim_sim *s, run_state *rs, long k, lon
  * could find the first: that step is only the latest it can be. */
 static void uncertain_step(psim_error *err, long checked)
 {
+    if (!*err->msg)   /* over ranks: another rank names it */
+        return;
     char was[sizeof err->msg];
     memcpy(was, err->msg, sizeof was);
     psim_error_set(err, "%s (the first bad step lies after step %ld, where the state was "
@@ -359,6 +361,10 @@ static void watch_steps(const run_opts *o, psim_sim *s, long steps, progress *pb
 }
 
 /* The steps: 0, -1 with err set, or -2 when a signal stopped them. */
+/* Steps between the checks that the state is finite, over ranks (a pass
+ * over the particles and an allreduce: well under 1% of the steps). */
+#define RANKS_CHECK_EVERY 16
+
 static int simulate(const run_opts *o, psim_sim *s, const psim_scene *sc,
                     const psim_config *cfg, long steps, run_state *rs, psim_error *err)
 {
@@ -393,6 +399,7 @@ static int simulate(const run_opts *o, psim_sim *s, const psim_scene *sc,
     /* PSIM_CHECK_EVERY=N: a fixed interval instead (tests, docs/reliability.md) */
     const char *ev = getenv("PSIM_CHECK_EVERY");
     const long every = ev && atol(ev) > 0 ? atol(ev) : 0;
+    const int ranks = psim_dist_ranks();
     double check_s = 0, steps_s = 0;
     long checked = first;   /* the last step whose state was seen finite */
     for (long k = first + 1; k <= last && rc == 0; k++) {
@@ -403,9 +410,12 @@ static int simulate(const run_opts *o, psim_sim *s, const psim_scene *sc,
         }
         steps_s += psim_now() - t0;
         /* (under --check the engine has checked this state already) */
+        /* (over ranks the check is collective: every rank on the same
+         * steps, RANKS_CHECK_EVERY apart at most) */
         if (!cfg->check &&
             (each || k == last || thermo_due(&rs->th, k, last) ||
-             (every ? k % every == 0 : 0.01 * steps_s >= check_s))) {
+             (every ? k % every == 0
+                    : ranks > 1 ? k % RANKS_CHECK_EVERY == 0 : 0.01 * steps_s >= check_s))) {
             double t1 = psim_now();
             if (finite_since(o, s, sc, cfg, checked, err)) {
                 rc = -1;

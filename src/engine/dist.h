@@ -82,6 +82,13 @@ int psim_dist_prestep(struct psim_sim *e, psim_error *err);
  * measure the drift since the exchange.  0, or -1 with err set (its
  * message empty on ranks that did not fail themselves). */
 int psim_dist_poststep(struct psim_sim *e, int rc, psim_error *err);
+/* The rank's domain and halo, {xmin, ymin, xmax, ymax} inside the box,
+ * for its grid: 0, or -1 before the model's halo is known. */
+int psim_dist_bbox(const struct psim_sim *e, double *bb);
+/* Collective: whether every rank's own particles are finite (0), or -1
+ * with err naming the least id that is not (on its owner; empty on the
+ * other ranks). */
+int psim_dist_finite(const struct psim_sim *e, psim_error *err);
 /* After the model sorted the store: the ghosts' and the sent particles'
  * places found again. */
 void psim_dist_sorted(struct psim_sim *e);

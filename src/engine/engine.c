@@ -132,7 +132,17 @@ int psim_engine_grid_tiles(psim_sim *e, double reach, const double *bbox, double
     e->has_grid = 0;
     if (e->cfg.steps == 0)   /* no step will use it: one cell, never sorted */
         occupancy = INFINITY;
-    if (psim_grid_init_occ(&e->grid, e->L, e->r, reach, e->n, tile_cells, bbox,
+    /* over ranks: the rank's domain and halo, its cells as many as its
+     * particles would fill in the square grid around them */
+    double own[4];
+    long n = e->n;
+    if (!bbox && e->dist && psim_dist_bbox(e, own) == 0) {
+        double w = own[2] - own[0], h = own[3] - own[1], side = w > h ? w : h;
+        bbox = own;
+        if (w > 0 && h > 0)
+            n = (long)fmin((double)n * side / w * side / h, 4.0 * (double)e->n_all + 1);
+    }
+    if (psim_grid_init_occ(&e->grid, e->L, e->r, reach, n, tile_cells, bbox,
                            occupancy, e->tile_particles) ||
         psim_sorter_init(&e->sorter, e->threads, e->grid.ncells))
         return -1;
@@ -144,6 +154,14 @@ int psim_engine_grid_tiles(psim_sim *e, double reach, const double *bbox, double
         psim_grid_cut(&e->grid, e->cuts_saved, e->cuts_saved + TG + 1);
     grid_stats(e);
     return 0;
+}
+
+int psim_engine_regrid(psim_sim *e)
+{
+    if (!e->grid_asked)
+        return 0;
+    return psim_engine_grid_tiles(e, e->grid_ask[0], e->grid_ask_bbox ? e->grid_ask + 3 : NULL,
+                                  e->grid_ask[1], (int)e->grid_ask[2]);
 }
 
 void psim_engine_grid_cut(psim_sim *e, const int32_t *cut_x, const int32_t *cut_y)
@@ -488,8 +506,8 @@ int psim_step(psim_sim *e, psim_error *err)
 
 int psim_state_finite(const psim_sim *e, psim_error *err)
 {
-    if (e->dist)   /* checked at every step's end (psim_dist_poststep) */
-        return 0;
+    if (e->dist)   /* every rank's, together */
+        return psim_dist_finite(e, err);
     const psim_store *s = &e->st;
     size_t bad = s->n;
     for (size_t k = 0; k < s->n; k++)

@@ -60,6 +60,10 @@ int psim_engine_restart_init(struct psim_sim *e, psim_scene *sc, psim_error *err
 /* The store into the restart's order (before the first sort). */
 void psim_engine_restart_order(struct psim_sim *e);
 
+/* The grid the model asked for last, planned again (over ranks, after
+ * the domains were cut again).  0, or -1 (no memory). */
+int psim_engine_regrid(struct psim_sim *e);
+
 /* limits.c: the scene against the model's limits (model.h): 0, or -1
  * with err naming the line of L, r or the disk and what is too large. */
 int psim_engine_limits(const struct psim_sim *e, const psim_scene *sc, psim_error *err);

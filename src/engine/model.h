@@ -209,6 +209,10 @@ int psim_engine_ranks(const struct psim_sim *e);
 int psim_engine_exchanged(const struct psim_sim *e);
 double psim_engine_drift(const struct psim_sim *e);
 int psim_engine_ghost(const struct psim_sim *e, size_t place);
+/* Over ranks: every particle of the store moved at most `most` in this
+ * step (a model that says so each step spares the engine a pass over the
+ * store to measure it). */
+void psim_engine_moved(struct psim_sim *e, double most);
 /* Index of the counter called name in the stats (-1 if none). */
 int psim_engine_counter(const struct psim_sim *e, const char *name);
 

@@ -115,6 +115,7 @@ __attribute__((noinline)) size_t psim_sort_by_cell(psim_sorter *so,
             const int32_t *restrict id = st->id;
             const int far = n > SORT_PREFETCH_MIN;
             int32_t *restrict id2 = st->id2;
+            uint32_t *restrict from = st->from;
             for (size_t i = psim_part_lo(n, C, c); i < psim_part_lo(n, C, c + 1); i++) {
                 if (far && (i & 7) == 0) {   /* a line of each array */
                     PSIM_PREFETCH_AHEAD(x + i, 1024, 0);
@@ -133,6 +134,8 @@ __attribute__((noinline)) size_t psim_sort_by_cell(psim_sorter *so,
                 vx2[d] = vx[i];
                 vy2[d] = vy[i];
                 id2[d] = id[i];
+                if (from)
+                    from[d] = (uint32_t)i;
             }
             psim_tstat_add(ts, PSIM_PHASE_SORT, psim_now() - t0, 1, 0);
         }

@@ -43,6 +43,27 @@ int psim_store_resize(psim_store *s, size_t n)
     return psim_store_init(s, n + n / 4) ? -1 : (s->n = n, 0);
 }
 
+int psim_store_keep(psim_store *s, size_t n)
+{
+    if (n <= s->cap) {
+        s->n = n;
+        return 0;
+    }
+    psim_store t;
+    if (psim_store_init(&t, n + n / 4))
+        return -1;
+    size_t keep = s->n;
+    memcpy(t.x, s->x, keep * sizeof *t.x);
+    memcpy(t.y, s->y, keep * sizeof *t.y);
+    memcpy(t.vx, s->vx, keep * sizeof *t.vx);
+    memcpy(t.vy, s->vy, keep * sizeof *t.vy);
+    memcpy(t.id, s->id, keep * sizeof *t.id);
+    psim_store_free(s);
+    *s = t;
+    s->n = n;
+    return 0;
+}
+
 #define SWAP(a, b) do { __typeof__(a) t_ = (a); (a) = (b); (b) = t_; } while (0)
 
 void psim_store_swap(psim_store *s)

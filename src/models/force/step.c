@@ -515,6 +515,8 @@ static int finish(psim_sim *e, fmodel *m)
      * reflections (they move a particle elsewhere than v dt) the
      * half-diagonal of the velocities' extent when smaller */
     double vmax = sqrt(v2max), hw = 0.5 * hypot(u1 - u0, w1 - w0) * (1 + 1e-12);
+    /* over ranks: how far any particle went (v dt, the rounding of x) */
+    psim_engine_moved(e, vmax * m->law.dt + 8 * DBL_EPSILON * m->law.size);
     m->drift += (bounced || !m->skip || !(hw < vmax) ? vmax : hw) * m->law.dt;
     m->since_build++;
     e->stats.skipped[FS_WALLS] += !bounced && !m->naive;
@@ -787,12 +789,13 @@ int force_step_lists(psim_sim *e, fmodel *m)
 {
     psim_store *s = &e->st;
     psim_thread_stats *ts = e->tstats;
-    /* over ranks the ghosts' motion is their owners': every shell */
+    /* over ranks the ghosts' motion is their owners': the shells from
+     * every rank's largest drift since the exchange (the build) */
     const int ranks = psim_engine_ranks(e) > 1;
+    const double across = 2 * psim_engine_drift(e) + 2 * (force_drift_bound(m) - m->drift);
     for (uint32_t t = 0; t < m->ntiles; t++) {
         double c = tiles_closing(m, t, m->tiles[t].fwd);
-        m->tiles[t].shells = ranks ? FORCE_BUCKETS
-                                   : active_shells(m, c < m->closing ? c : m->closing);
+        m->tiles[t].shells = active_shells(m, ranks ? across : c < m->closing ? c : m->closing);
     }
     double t0 = psim_now();
     /* one thread, or one tile: the same calls in order */
