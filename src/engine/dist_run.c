@@ -499,6 +499,18 @@ int psim_dist_poststep(psim_sim *e, int rc, psim_error *err)
     return 0;
 }
 
+void psim_engine_reduce(psim_sim *e, double *sum, int nsum, double *least, int nleast)
+{
+    if (!e->dist)
+        return;
+    double t0 = psim_now();
+    if (nsum)
+        MPI_Allreduce(MPI_IN_PLACE, sum, nsum, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+    if (nleast)
+        MPI_Allreduce(MPI_IN_PLACE, least, nleast, MPI_DOUBLE, MPI_MIN, MPI_COMM_WORLD);
+    e->stats.phase_s[e->dist->comm_phase] += psim_now() - t0;
+}
+
 int psim_dist_finite(const psim_sim *e, psim_error *err)
 {
     const psim_dist *d = e->dist;
@@ -683,6 +695,10 @@ void psim_dist_view_free(psim_sim *v) { (void)v; }
 void psim_dist_reduce_stats(psim_sim *e, psim_rank_stats *per) { (void)e, (void)per; }
 int psim_engine_exchanged(const psim_sim *e) { (void)e; return 0; }
 void psim_engine_moved(psim_sim *e, double most) { (void)e, (void)most; }
+void psim_engine_reduce(psim_sim *e, double *sum, int nsum, double *least, int nleast)
+{
+    (void)e, (void)sum, (void)nsum, (void)least, (void)nleast;
+}
 int psim_dist_finite(const psim_sim *e, psim_error *err) { (void)e, (void)err; return 0; }
 double psim_engine_drift(const psim_sim *e) { (void)e; return 0; }
 int psim_engine_ghost(const psim_sim *e, size_t place) { (void)e, (void)place; return 0; }

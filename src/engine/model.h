@@ -213,6 +213,10 @@ int psim_engine_ghost(const struct psim_sim *e, size_t place);
  * step (a model that says so each step spares the engine a pass over the
  * store to measure it). */
 void psim_engine_moved(struct psim_sim *e, double most);
+/* Over ranks, collective (every rank calls it at the same point of the
+ * same step): sum[0..nsum) summed and least[0..nleast) the least over
+ * the ranks, in place.  One process: nothing. */
+void psim_engine_reduce(struct psim_sim *e, double *sum, int nsum, double *least, int nleast);
 /* Index of the counter called name in the stats (-1 if none). */
 int psim_engine_counter(const struct psim_sim *e, const char *name);
 

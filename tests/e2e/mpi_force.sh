@@ -40,6 +40,16 @@ for n in 700 3000; do
 done
 echo "ok: 1-4 ranks x 1-2 threads write the bytes of one process"
 
+# CS267's own statistics (--force-stats): the same figures as one process.
+"$PSIM" --model force -n 2000 -s 3 --steps 100 --threads 1 --force-stats >"$tmp/st1" ||
+    fail "--force-stats in one process"
+mpi 3 --model force -n 2000 -s 3 --steps 100 --threads 2 --force-stats >"$tmp/st3" ||
+    fail "--force-stats over 3 ranks"
+grep -q '^absmin = ' "$tmp/st1" || fail "no absmin line: $(cat "$tmp/st1")"
+[[ $(grep '^absmin = ' "$tmp/st1") == $(grep '^absmin = ' "$tmp/st3") ]] ||
+    fail "absmin/absavg over 3 ranks: $(grep absmin "$tmp/st3") vs $(grep absmin "$tmp/st1")"
+echo "ok: --force-stats over ranks"
+
 # The transport that crosses machines.
 run_ok mpirun -q --oversubscribe --mca btl tcp,self -np 3 "$PSIM" --model force -n 3000 -s 5 \
     --steps 150 --threads 1 -q -o "$tmp/tcp.txt"

@@ -233,9 +233,8 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
     m->rounds = (int)psim_engine_option(
         e, "rounds", e->threads >= FORCE_STATIC_THREADS ? FORCE_ROUNDS_STATIC : FORCE_ROUNDS_DYNAMIC);
     m->absmin = 1.0;
-    if (psim_engine_ranks(e) > 1 && (m->naive || m->stats)) {
-        psim_error_set(err, "--option %s=1 runs in one process only, not over MPI ranks",
-                       m->naive ? "naive" : "stats");
+    if (psim_engine_ranks(e) > 1 && m->naive) {
+        psim_error_set(err, "--option naive=1 runs in one process only, not over MPI ranks");
         err->usage = 1;
         destroy(m);
         return NULL;

@@ -102,9 +102,11 @@ static void pair_forces(const fmodel *m, const psim_store *s, ftile *t, fpair p)
     push_rec(t, p.i, p.j, coef * dx, coef * dy);
     push_rec(t, p.j, p.i, coef * (xi - xj), coef * (yi - yj));
     t->hits += 2;
-    if (m->stats) {
-        pair_stats(k, t, xi, yi, xj, yj);
-        pair_stats(k, t, xj, yj, xi, yi);
+    if (m->stats) {   /* over ranks, each rank's own particles' */
+        if (!psim_engine_ghost(m->sim, p.i))
+            pair_stats(k, t, xi, yi, xj, yj);
+        if (!psim_engine_ghost(m->sim, p.j))
+            pair_stats(k, t, xj, yj, xi, yi);
     }
 }
 
@@ -523,7 +525,10 @@ static int finish(psim_sim *e, fmodel *m)
     /* at rest from the next step but one (a first quiet step may still turn
      * -0 into +0): no force, no speed, no wall */
     m->quiet = hits == 0 && v2max == 0 && !bounced && !lost ? m->quiet + 1 : 0;
-    if (m->stats) {            /* the course's per-step bookkeeping */
+    if (m->stats) {            /* the course's per-step bookkeeping, every rank's */
+        double sum[2] = {dsum, (double)dn};
+        psim_engine_reduce(e, sum, 2, &dmin, 1);
+        dsum = sum[0], dn = (uint64_t)sum[1];
         if (dn) {
             m->absavg += dsum / (double)dn;
             m->nabsavg++;
