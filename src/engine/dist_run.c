@@ -30,7 +30,7 @@ typedef struct psim_dist {
     double h;                 /* the halo's width: reach + skin */
     int comm_phase;           /* the stats' "comm" */
     size_t n_own;             /* owned particles (the store's others are ghosts) */
-    int due, exchanged, recut;
+    int due, exchanged, recut, regrid;
     double drift;             /* every owned particle has moved at most this
                                * since the exchange (all ranks' largest) */
     double moved;             /* this step's, as the model said (psim_engine_moved) */
@@ -128,27 +128,33 @@ static void put_rec(double *o, const psim_store *st, size_t i)
 
 /* The domains cut again where the owned particles are: a histogram of x
  * over every rank, then one of y in each column. */
-static void recut(psim_sim *e)
+static void cut(psim_dist *d, double L, const double *x, const double *y, size_t n, int all)
 {
-    psim_dist *d = e->dist;
     dist_cuts *c = &d->cuts;
-    const psim_store *st = &e->st;
     uint64_t *h = calloc((size_t)c->px * DIST_BINS, sizeof *h);
     if (!h)
         out_of_memory("the domains");
-    for (size_t i = 0; i < d->n_own; i++)
-        h[dist_bin(st->x[i], e->L)]++;
-    MPI_Allreduce(MPI_IN_PLACE, h, DIST_BINS, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
-    dist_cuts_from_hist(h, e->L, c->px, c->cx);
+    for (size_t i = 0; i < n; i++)
+        h[dist_bin(x[i], L)]++;
+    if (all)
+        MPI_Allreduce(MPI_IN_PLACE, h, DIST_BINS, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
+    dist_cuts_from_hist(h, L, c->px, c->cx);
     memset(h, 0, (size_t)c->px * DIST_BINS * sizeof *h);
-    for (size_t i = 0; i < d->n_own; i++)
-        h[(size_t)dist_cuts_column(c, st->x[i]) * DIST_BINS + dist_bin(st->y[i], e->L)]++;
-    MPI_Allreduce(MPI_IN_PLACE, h, c->px * DIST_BINS, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
+    for (size_t i = 0; i < n; i++)
+        h[(size_t)dist_cuts_column(c, x[i]) * DIST_BINS + dist_bin(y[i], L)]++;
+    if (all)
+        MPI_Allreduce(MPI_IN_PLACE, h, c->px * DIST_BINS, MPI_UINT64_T, MPI_SUM,
+                      MPI_COMM_WORLD);
     for (int i = 0; i < c->px; i++)
-        dist_cuts_from_hist(h + (size_t)i * DIST_BINS, e->L, c->py,
-                            c->cy + (size_t)i * (c->py + 1));
+        dist_cuts_from_hist(h + (size_t)i * DIST_BINS, L, c->py, c->cy + (size_t)i * (c->py + 1));
     free(h);
     d->rs.recuts++;
+}
+
+/* The same from every rank's own particles (their places come first). */
+static void recut(psim_sim *e)
+{
+    cut(e->dist, e->L, e->st.x, e->st.y, e->dist->n_own, 1);
 }
 
 /* Records of the store's places idx[0..n) (NULL: 0..n) for rank dest[k],
@@ -328,8 +334,9 @@ static void exchange(psim_sim *e)
     d->drift = 0;
     d->exchanged = 1;
     d->rs.exchanges++;
-    if (d->recut && psim_engine_regrid(e))   /* the grid over the new domain */
+    if ((d->recut || d->regrid) && psim_engine_regrid(e))   /* the grid over the new domain */
         out_of_memory("the grid");
+    d->regrid = 0;
     /* cut again at the next exchange if the shares drifted apart */
     double most = psim_dist_max((double)m);
     d->recut = most > DIST_RECUT * (double)e->n_all / R() + 1;
@@ -382,24 +389,27 @@ int psim_dist_attach(psim_sim *e, const psim_scene *sc, psim_error *err)
         return -1;
     }
     d->sdsp = d->scnt + n, d->rcnt = d->sdsp + n, d->rdsp = d->rcnt + n;
-    d->due = d->recut = 1;
+    d->due = d->regrid = 1;
     d->comm_phase = e->stats.nphases;
     e->stats.phase_name[e->stats.nphases++] = "comm";
-    /* this rank's block of ids: the first exchange sends them on */
-    long lo = (long)((double)sc->n * me() / n), hi = (long)((double)sc->n * (me() + 1) / n);
-    if (psim_store_resize(&e->st, (size_t)(hi - lo)) || places(d, (size_t)(hi - lo))) {
-        psim_error_set(err, "out of memory for %ld particles", hi - lo);
+    /* every rank holds the whole scene here: each cuts the domains from it
+     * alike and keeps its own particles (a little room for the ghosts) */
+    cut(d, sc->L, sc->x, sc->y, (size_t)sc->n, 0);
+    size_t own = 0;
+    for (long i = 0; i < sc->n; i++)
+        own += dist_cuts_owner(&d->cuts, sc->x[i], sc->y[i]) == me();
+    if (psim_store_init(&e->st, own + own / 32 + 1024) || places(d, own + own / 32 + 1024)) {
+        psim_error_set(err, "out of memory for %zu particles", own);
         return -1;
     }
-    for (long i = lo; i < hi; i++) {
-        size_t k = (size_t)(i - lo);
-        e->st.x[k] = sc->x[i], e->st.y[k] = sc->y[i];
-        e->st.vx[k] = sc->vx[i], e->st.vy[k] = sc->vy[i];
-        e->st.id[k] = (int32_t)i;
-    }
-    d->n_own = (size_t)(hi - lo);
-    memset(d->ghost, 0, d->n_own);
-    e->n = hi - lo;
+    e->st.n = 0;
+    for (long i = 0; i < sc->n; i++)
+        if (dist_cuts_owner(&d->cuts, sc->x[i], sc->y[i]) == me())
+            get_rec(&e->st, e->st.n++, (const double[REC]){(double)i, sc->x[i], sc->y[i],
+                                                             sc->vx[i], sc->vy[i]});
+    d->n_own = own;
+    memset(d->ghost, 0, own);
+    e->n = (long)own;
     return 0;
 }
 
