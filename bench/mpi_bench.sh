@@ -7,13 +7,13 @@
 #
 # usage: bench/mpi_bench.sh [--build DIR] [--n "N ..."] [--layouts "RxT ..."]
 #                           [--steps S] [--reps K]
-#   defaults: --n "100000 1000000" --layouts "1x1 1x2 2x1" --steps 200 --reps 5
+#   defaults: --n "100000 1000000" --layouts "1x1 1x2 2x1" --steps 1000 --reps 5
 # Example: bench/mpi_bench.sh --n 1000000 --reps 7
 set -euo pipefail
 build=build
 ns="100000 1000000"
 layouts="1x1 1x2 2x1"
-steps=200
+steps=1000
 reps=5
 while (($#)); do
     case $1 in

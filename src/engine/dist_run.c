@@ -178,6 +178,15 @@ static double *pack_by_rank(const psim_store *st, const uint32_t *idx, const int
     return buf;
 }
 
+/* Whether (x, y) lies in this rank's own domain (its cells' rule:
+ * lower sides in, upper sides out). */
+static int inside(const dist_cuts *c, double x, double y)
+{
+    int i = me() / c->py, j = me() % c->py;
+    const double *cy = c->cy + (size_t)i * (c->py + 1);
+    return x >= c->cx[i] && x < c->cx[i + 1] && y >= cy[j] && y < cy[j + 1];
+}
+
 /* Migration: every owned particle that left this rank's domain goes to
  * the rank that owns its place now; those that stay are moved to the
  * front of the store (places 0..*stay), in their order.  The records
@@ -197,6 +206,8 @@ static double *migrate(psim_sim *e, size_t *stay, size_t *got)
     for (size_t i = 0; i < st->n; i++) {
         if (d->ghost[i])
             continue;
+        if (inside(&d->cuts, st->x[i], st->y[i]))
+            continue;
         int q = dist_cuts_owner(&d->cuts, st->x[i], st->y[i]);
         if (q != me())
             out[m] = (uint32_t)i, dest[m++] = q, c[q]++, d->ghost[i] = 2;   /* leaves */
@@ -206,8 +217,10 @@ static double *migrate(psim_sim *e, size_t *stay, size_t *got)
     for (size_t i = 0; i < st->n; i++) {   /* w <= i: nothing unread is overwritten */
         if (d->ghost[i])
             continue;
-        st->x[w] = st->x[i], st->y[w] = st->y[i], st->vx[w] = st->vx[i];
-        st->vy[w] = st->vy[i], st->id[w] = st->id[i];
+        if (w != i) {
+            st->x[w] = st->x[i], st->y[w] = st->y[i], st->vx[w] = st->vx[i];
+            st->vy[w] = st->vy[i], st->id[w] = st->id[i];
+        }
         w++;
     }
     size_t r = counts(c, sd, rc, rd);
