@@ -1,6 +1,7 @@
 /* psim [OPTIONS] [SCENE [THREADS]]: run a scene. */
 #include <errno.h>
 #include <math.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -459,6 +460,30 @@ static int ranks_failed(int rc, const char *msg)
     return low >= 0;
 }
 
+/* The signal that stopped the run, as its line names it. */
+static const char *stop_signal_name = "SIGINT";
+
+/* The steps' end (ran: simulate's): over ranks, a signal that stopped any
+ * rank stops every rank, also one that came to one rank alone after its
+ * last step; the ranks agree on it, so that rank 0 alone names it and
+ * every rank leaves the run (the others exit 1, the ranks it came to end
+ * by it).  Without ranks: ran. */
+static int ranks_stopped(int ran, const psim_sim *s, psim_error *err)
+{
+    if (psim_dist_ranks() < 2) {
+        stop_signal_name = cli_interrupt_name();
+        return ran;
+    }
+    /* (SIGTERM outranks SIGINT in the largest) */
+    const int sig = (int)psim_dist_max((double)cli_interrupted());
+    if (!sig)
+        return ran;
+    stop_signal_name = sig == SIGTERM ? "SIGTERM" : "SIGINT";
+    if (ran == 0)
+        psim_error_set(err, "after step %ld: interrupted", psim_step_index(s));
+    return -2;
+}
+
 /* What a run over ranks cannot do yet: 0, or 2 after saying so (rank 0). */
 static int ranks_refuse(const run_opts *o)
 {
@@ -622,10 +647,10 @@ int cli_run(int argc, char **argv)
         goto done;
     }
     double t0 = psim_now();
-    int ran = simulate(&o, s, &sc, &cfg, steps, &rs, &err);
+    int ran = ranks_stopped(simulate(&o, s, &sc, &cfg, steps, &rs, &err), s, &err);
     /* (over ranks, a rank that did not fail itself has no message) */
-    if (ran == -2 && (psim_dist_rank() == 0 || ranks == 1))   /* and psim ends by the signal (main) */
-        cli_err("psim: %s: %s by %s", o.label, err.msg, cli_interrupt_name());
+    if (ran == -2 && psim_dist_rank() == 0)   /* and psim ends by the signal (main) */
+        cli_err("psim: %s: %s by %s", o.label, err.msg, stop_signal_name);
     else if (ran && ran != -2 && *err.msg)
         cli_err("psim: %s: %s", o.label, err.msg);
     if (ran)
