@@ -463,17 +463,22 @@ static int ranks_failed(int rc, const char *msg)
 /* The signal that stopped the run, as its line names it. */
 static const char *stop_signal_name = "SIGINT";
 
-/* The steps' end (ran: simulate's): over ranks, a signal that stopped any
+/* The steps' end (ran: simulate's), over ranks: a signal that stopped any
  * rank stops every rank, also one that came to one rank alone after its
  * last step; the ranks agree on it, so that rank 0 alone names it and
  * every rank leaves the run (the others exit 1, the ranks it came to end
- * by it).  Without ranks: ran. */
+ * by it).  A failure of several ranks at once is said by the lowest of
+ * them (err's message emptied on the others).  Without ranks: ran. */
 static int ranks_stopped(int ran, const psim_sim *s, psim_error *err)
 {
     if (psim_dist_ranks() < 2) {
         stop_signal_name = cli_interrupt_name();
         return ran;
     }
+    /* (every rank comes here once its steps end: both are collective) */
+    const int said = ran == -1 && *err->msg;
+    if (psim_dist_agree(said) != psim_dist_rank() && said)
+        psim_error_set(err, "%s", "");
     /* (SIGTERM outranks SIGINT in the largest) */
     const int sig = (int)psim_dist_max((double)cli_interrupted());
     if (!sig)
