@@ -254,6 +254,17 @@ static int write_step(const run_opts *o, psim_sim *s, long k, long last, run_sta
     return 0;
 }
 
+/* Over ranks: whether a step of the start that some rank failed (rc)
+ * failed on any; the lowest rank that failed says why (msg), the others
+ * keep quiet.  Without ranks: rc, said. */
+static int ranks_failed(int rc, const char *msg)
+{
+    int low = psim_dist_agree(rc != 0);
+    if (low >= 0 && low == psim_dist_rank() && msg && *msg)
+        cli_err("psim: %s", msg);
+    return low >= 0;
+}
+
 /* --restart-every: the state after step k as the restart file, in place
  * of the last one (renamed into place, so a run killed at any time leaves
  * a whole file); its step count is what remains of the run, so running it
@@ -267,8 +278,15 @@ static int checkpoint(const run_opts *o, psim_sim *s, run_state *rs, long k, lon
         set_write_failed(err, o->restart);
         return -1;
     }
-    if (outfile_commit(&rs->restart) || outfile_open(&rs->restart, o->restart)) {
-        psim_error_set(err, "%s: checkpoint failed", o->restart);
+    /* over ranks rank 0 alone writes the file, as open_outputs opens it;
+     * a failure is every rank's */
+    const int failed = outfile_commit(&rs->restart) ||
+                       outfile_open(&rs->restart, psim_dist_rank() == 0 ? o->restart : "/dev/null");
+    if (ranks_failed(failed, NULL)) {
+        if (failed)
+            psim_error_set(err, "%s: checkpoint failed", o->restart);
+        else
+            psim_error_set(err, "%s", "");
         return -1;
     }
     return 0;
@@ -447,17 +465,6 @@ static void start_threads(void)
 #pragma omp parallel
     __atomic_fetch_add(&started, 1, __ATOMIC_RELAXED);
     cli_interrupt_watch();
-}
-
-/* Over ranks: whether a step of the start that some rank failed (rc)
- * failed on any; the lowest rank that failed says why (msg), the others
- * keep quiet.  Without ranks: rc, said. */
-static int ranks_failed(int rc, const char *msg)
-{
-    int low = psim_dist_agree(rc != 0);
-    if (low >= 0 && low == psim_dist_rank() && msg && *msg)
-        cli_err("psim: %s", msg);
-    return low >= 0;
 }
 
 /* The signal that stopped the run, as its line names it. */

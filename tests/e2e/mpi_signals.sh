@@ -2,7 +2,8 @@
 # SIGTERM and SIGINT in the middle of a force run over MPI ranks, sent to
 # mpirun or to one rank alone: the run ends with a non-zero status, no
 # output file and no temporary file, no psim process left, and at most
-# one line from psim on stderr.
+# one line from psim on stderr.  Checkpoints over ranks leave a whole
+# file at any time.
 set -euo pipefail
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 source "$(dirname "$0")/lib.sh" "$@"
@@ -99,3 +100,25 @@ for r in 2 3; do
     interrupt "$r" TERM $((r - 1))
 done
 interrupt 3 TERM 0
+
+# Checkpoints over ranks (--restart-every): rank 0 alone puts the file in
+# place, so that a run killed at any time leaves a whole one: never empty
+# while the run goes, and at its end the file of one process.
+ckpt=(--model force -n 2000 --steps 300 --option cutoff=0.05 --threads 1 -q --restart-every 20)
+run_ok "$PSIM" "${ckpt[@]}" --restart "$tmp/one.rst"
+rm -rf "$out" && mkdir "$out"
+timeout -k 5 120 mpirun -q --oversubscribe -np 2 "$PSIM" "${ckpt[@]}" --restart "$out/r.rst" \
+    2>"$tmp/err" &
+job=$!
+seen=0
+while kill -0 "$job" 2>/dev/null; do
+    if [[ -e $out/r.rst ]]; then
+        [[ -s $out/r.rst ]] || fail "an empty checkpoint file while the run goes"
+        seen=$((seen + 1))
+    fi
+    sleep 0.05
+done
+wait "$job" || fail "the run with checkpoints failed: $(cat "$tmp/err")"
+((seen > 0)) || fail "no checkpoint file seen while the run went"
+same_file "$tmp/one.rst" "$out/r.rst" "the restart file of 2 ranks"
+echo "ok: checkpoints over 2 ranks: a whole file all along ($seen looks)"
