@@ -11,6 +11,11 @@
 #                      cores, for each discrete scene found in SCENES_DIR
 #   tiles.md           the discrete 0.9 scenes at the largest thread count
 #                      with smaller tiles than the default
+#   ranks.md           the force model at 1e6 particles over MPI ranks x
+#                      threads (R*T up to the largest thread count),
+#                      mpirun --bind-to none, psim --pin=cores: wall time
+#                      and the bytes against one process (skipped, with
+#                      a line saying why, without mpirun or an MPI build)
 #   event.md           bench/event_bench.sh (one core, collisions/s)
 #   log.txt            what every step printed, with its wall time
 #
@@ -21,15 +26,15 @@
 #                  standard/ and large/ scenes are used when present (default:
 #                  scenes of the same sizes, radii and speeds from psim gen)
 #   --threads L    thread counts (default "1 2 4 8 16")
-#   --only L       parts to run, of: machine determinism force scaling
-#                  tiles event (default: all, in that order)
+#   --only L       parts to run, of: machine determinism force ranks
+#                  scaling tiles event (default: all, in that order)
 # Example: bench/many_cores.sh --threads "1 2 4 8 16" /tmp/many
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 build=build
 scenes=""
 threads="1 2 4 8 16"
-only="machine determinism force scaling tiles event"
+only="machine determinism force ranks scaling tiles event"
 out=""
 while [ $# -gt 0 ]; do
     case "$1" in
@@ -37,7 +42,7 @@ while [ $# -gt 0 ]; do
         --scenes) scenes="$2"; shift 2 ;;
         --threads) threads="$2"; shift 2 ;;
         --only) only="$2"; shift 2 ;;
-        -h|--help) sed -n '2,27p' "$0"; exit 0 ;;
+        -h|--help) sed -n '2,32p' "$0"; exit 0 ;;
         -*) echo "many_cores.sh: unknown option: $1 (--help for usage)" >&2; exit 2 ;;
         *) out="$1"; shift ;;
     esac
@@ -113,6 +118,75 @@ force() {
         --plot "$out/force.png" "$build" > "$out/force.md"
 }
 
+# ranks: 1e6 particles, layouts R x T with R*T = the largest thread
+# count (R = 1, 2, 4, ... up to it) and 1 x 1; every layout under mpirun
+# (its start-up in every figure), the median of 3 runs, the layouts'
+# runs interleaved; the -o bytes of a shorter run against one process.
+ranks() {
+    local n=1000000 steps=100 check=20 reps=3 r t lay layouts="1x1" k
+    if ! command -v mpirun > /dev/null; then
+        echo "ranks: skipped: no mpirun (Debian: openmpi-bin)" | tee "$out/ranks.md"
+        return 0
+    fi
+    if ! "$psim" --version | grep -q "MPI on"; then
+        echo "ranks: skipped: $psim is built without MPI (psim --version: MPI off;" \
+            "cmake -DPSIM_MPI=ON with libopenmpi-dev)" | tee "$out/ranks.md"
+        return 0
+    fi
+    # (as root, Open MPI wants both)
+    export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+    for ((r = 1; r <= top; r *= 2)); do
+        t=$((top / r))
+        [ "${r}x$t" = 1x1 ] || layouts="$layouts ${r}x$t"
+    done
+    local mpi=(mpirun -q --oversubscribe --bind-to none)
+    "$psim" --model force -n "$n" --seed 1 --steps "$check" --threads 1 -q -o "$tmp/one.txt"
+    for ((k = 1; k <= reps; k++)); do
+        for lay in $layouts; do
+            r=${lay%x*} t=${lay#*x}
+            local t0 t1
+            t0=$(date +%s.%N)
+            "${mpi[@]}" -np "$r" "$psim" --model force -n "$n" --seed 1 --steps "$steps" \
+                --threads "$t" --pin=cores -q
+            t1=$(date +%s.%N)
+            awk -v l="$lay" -v a="$t0" -v b="$t1" 'BEGIN { print l, b - a }' >> "$tmp/ranks.times"
+        done
+    done
+    {
+        echo "### The force model over MPI ranks x threads"
+        echo
+        echo "$n particles, $steps steps, wall time of the whole run (mpirun's start-up,"
+        echo "the scene made on every rank, the steps), median of $reps, layouts interleaved;"
+        echo "bytes: the -o output of $check steps against one process (\`--threads 1\`, no mpirun)."
+        echo
+        echo "| ranks x threads | wall s (median of $reps) | speed-up over 1x1 | -o bytes |"
+        echo "|---|---:|---:|---|"
+        local base="" med same
+        for lay in $layouts; do
+            r=${lay%x*} t=${lay#*x}
+            med=$(awk -v l="$lay" '$1 == l { print $2 }' "$tmp/ranks.times" | sort -g |
+                awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }')
+            [ -n "$base" ] || base=$med
+            rm -f "$tmp/r.txt"
+            if "${mpi[@]}" -np "$r" "$psim" --model force -n "$n" --seed 1 --steps "$check" \
+                --threads "$t" --pin=cores -q -o "$tmp/r.txt" && cmp -s "$tmp/one.txt" "$tmp/r.txt"; then
+                same="same as one process"
+            else
+                same="DIFFERENT from one process"
+            fi
+            printf '| %s | %.3f | %.2f | %s |\n' "$lay" "$med" "$(awk -v a="$base" -v b="$med" 'BEGIN { print a / b }')" "$same"
+        done
+        echo
+        echo "commands (R x T each layout):"
+        echo
+        echo '```sh'
+        echo "${mpi[*]} -np R $psim --model force -n $n --seed 1 --steps $steps --threads T --pin=cores -q"
+        echo "${mpi[*]} -np R $psim --model force -n $n --seed 1 --steps $check --threads T --pin=cores -q -o r.txt"
+        echo "$psim --model force -n $n --seed 1 --steps $check --threads 1 -q -o one.txt; cmp one.txt r.txt"
+        echo '```'
+    } > "$out/ranks.md"
+}
+
 scaling() {
     local s r
     for s in "$scenes"/standard/*.in "$scenes"/large/*.in; do
@@ -141,6 +215,7 @@ event() {
 part machine machine
 part determinism determinism
 part force force
+part ranks ranks
 part scaling scaling
 part tiles tiles
 part event event

@@ -48,6 +48,10 @@ static void stop_then_wait(int sig)
     psim_request_stop();
     struct timespec grace = {CLI_STOP_GRACE_S, 0};
     int again = sigtimedwait(&watched, NULL, &grace);
+    /* the steps have stopped and main is ending psim: no more to say (a
+     * launcher such as mpirun ends the ranks left once one has exited) */
+    if (again > 0 && !__atomic_load_n(&armed, __ATOMIC_ACQUIRE))
+        end_now(again);
     const char *name = sig == SIGTERM ? "SIGTERM" : "SIGINT";
     char line[96];
     if (again > 0)

@@ -17,7 +17,8 @@
  * interrupt; status 128 + the signal: 130 for SIGINT, 143 for SIGTERM).
  * A second signal, a run still going CLI_STOP_GRACE_S seconds after the
  * first, or a signal outside the steps ends psim at once, its named
- * temporary files removed.  A signal the parent ignored (nohup) stays
+ * temporary files removed (a second signal after the steps have stopped,
+ * as a launcher sends the ranks left when one has ended, without a line).  A signal the parent ignored (nohup) stays
  * ignored.  Where the thread cannot start, the handlers of outfile.c end
  * psim at once, as for the other signals. */
 #define CLI_STOP_GRACE_S 3

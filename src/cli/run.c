@@ -1,6 +1,7 @@
 /* psim [OPTIONS] [SCENE [THREADS]]: run a scene. */
 #include <errno.h>
 #include <math.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -253,6 +254,17 @@ static int write_step(const run_opts *o, psim_sim *s, long k, long last, run_sta
     return 0;
 }
 
+/* Over ranks: whether a step of the start that some rank failed (rc)
+ * failed on any; the lowest rank that failed says why (msg), the others
+ * keep quiet.  Without ranks: rc, said. */
+static int ranks_failed(int rc, const char *msg)
+{
+    int low = psim_dist_agree(rc != 0);
+    if (low >= 0 && low == psim_dist_rank() && msg && *msg)
+        cli_err("psim: %s", msg);
+    return low >= 0;
+}
+
 /* --restart-every: the state after step k as the restart file, in place
  * of the last one (renamed into place, so a run killed at any time leaves
  * a whole file); its step count is what remains of the run, so running it
@@ -266,8 +278,15 @@ static int checkpoint(const run_opts *o, psim_sim *s, run_state *rs, long k, lon
         set_write_failed(err, o->restart);
         return -1;
     }
-    if (outfile_commit(&rs->restart) || outfile_open(&rs->restart, o->restart)) {
-        psim_error_set(err, "%s: checkpoint failed", o->restart);
+    /* over ranks rank 0 alone writes the file, as open_outputs opens it;
+     * a failure is every rank's */
+    const int failed = outfile_commit(&rs->restart) ||
+                       outfile_open(&rs->restart, psim_dist_rank() == 0 ? o->restart : "/dev/null");
+    if (ranks_failed(failed, NULL)) {
+        if (failed)
+            psim_error_set(err, "%s: checkpoint failed", o->restart);
+        else
+            psim_error_set(err, "%s", "");
         return -1;
     }
     return 0;
@@ -458,15 +477,33 @@ static void start_threads(void)
     cli_interrupt_watch();
 }
 
-/* Over ranks: whether a step of the start that some rank failed (rc)
- * failed on any; the lowest rank that failed says why (msg), the others
- * keep quiet.  Without ranks: rc, said. */
-static int ranks_failed(int rc, const char *msg)
+/* The signal that stopped the run, as its line names it. */
+static const char *stop_signal_name = "SIGINT";
+
+/* The steps' end (ran: simulate's), over ranks: a signal that stopped any
+ * rank stops every rank, also one that came to one rank alone after its
+ * last step; the ranks agree on it, so that rank 0 alone names it and
+ * every rank leaves the run (the others exit 1, the ranks it came to end
+ * by it).  A failure of several ranks at once is said by the lowest of
+ * them (err's message emptied on the others).  Without ranks: ran. */
+static int ranks_stopped(int ran, const psim_sim *s, psim_error *err)
 {
-    int low = psim_dist_agree(rc != 0);
-    if (low >= 0 && low == psim_dist_rank() && msg && *msg)
-        cli_err("psim: %s", msg);
-    return low >= 0;
+    if (psim_dist_ranks() < 2) {
+        stop_signal_name = cli_interrupt_name();
+        return ran;
+    }
+    /* (every rank comes here once its steps end: both are collective) */
+    const int said = ran == -1 && *err->msg;
+    if (psim_dist_agree(said) != psim_dist_rank() && said)
+        psim_error_set(err, "%s", "");
+    /* (SIGTERM outranks SIGINT in the largest) */
+    const int sig = (int)psim_dist_max((double)cli_interrupted());
+    if (!sig)
+        return ran;
+    stop_signal_name = sig == SIGTERM ? "SIGTERM" : "SIGINT";
+    if (ran == 0)
+        psim_error_set(err, "after step %ld: interrupted", psim_step_index(s));
+    return -2;
 }
 
 /* What a run over ranks cannot do yet: 0, or 2 after saying so (rank 0). */
@@ -632,10 +669,10 @@ int cli_run(int argc, char **argv)
         goto done;
     }
     double t0 = psim_now();
-    int ran = simulate(&o, s, &sc, &cfg, steps, &rs, &err);
+    int ran = ranks_stopped(simulate(&o, s, &sc, &cfg, steps, &rs, &err), s, &err);
     /* (over ranks, a rank that did not fail itself has no message) */
-    if (ran == -2 && (psim_dist_rank() == 0 || ranks == 1))   /* and psim ends by the signal (main) */
-        cli_err("psim: %s: %s by %s", o.label, err.msg, cli_interrupt_name());
+    if (ran == -2 && psim_dist_rank() == 0)   /* and psim ends by the signal (main) */
+        cli_err("psim: %s: %s by %s", o.label, err.msg, stop_signal_name);
     else if (ran && ran != -2 && *err.msg)
         cli_err("psim: %s: %s", o.label, err.msg);
     if (ran)
