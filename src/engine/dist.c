@@ -17,7 +17,7 @@
 #include "mem.h"
 #include "timer.h"
 
-static int g_rank, g_ranks = 1, g_started;
+static int g_rank, g_ranks = 1;
 
 /* The variables a launcher sets in each process it starts. */
 static const char *const launcher_vars[] = {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK",
@@ -36,14 +36,19 @@ int psim_dist_ranks(void) { return g_ranks; }
 
 #ifdef PSIM_HAVE_MPI
 
+static int g_started;
+
 int psim_dist_start(int *argc, char ***argv, psim_error *err)
 {
-    (void)err;
     if (!launched())
         return 1;
     int provided;
     /* MPI is called by the thread that runs main alone */
-    MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided);
+    if (MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided) != MPI_SUCCESS ||
+        provided < MPI_THREAD_FUNNELED) {
+        psim_error_set(err, "MPI could not start with threads (MPI_THREAD_FUNNELED)");
+        return -1;
+    }
     g_started = 1;
     MPI_Comm_rank(MPI_COMM_WORLD, &g_rank);
     MPI_Comm_size(MPI_COMM_WORLD, &g_ranks);

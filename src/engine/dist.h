@@ -93,7 +93,8 @@ int psim_dist_finite(const struct psim_sim *e, psim_error *err);
  * places found again. */
 void psim_dist_sorted(struct psim_sim *e);
 /* Collective: the state by id on rank 0, as a simulation the writers read
- * (rank 0), or NULL (the other ranks; rank 0 out of memory: errno). */
+ * (rank 0), or NULL (the other ranks).  Out of memory, or a particle on
+ * no rank or on two, ends the job (psim_dist_abort). */
 struct psim_sim *psim_dist_view(struct psim_sim *e);
 void psim_dist_view_free(struct psim_sim *v);
 /* Collective: counters and phase times of every rank into rank 0's stats

@@ -93,20 +93,17 @@ static void *grow(void *p, size_t bytes, const char *what)
 static void alltoallv(psim_dist *d, const double *s, const int *scnt, const int *sdsp,
                       double *r, const int *rcnt, const int *rdsp, int k)
 {
-    int n = R();
-    int *sc = malloc(4 * (size_t)n * sizeof *sc);
-    if (!sc)
-        out_of_memory("an exchange");
-    int *sd = sc + n, *rc = sd + n, *rd = rc + n;
-    for (int q = 0; q < n; q++) {
-        sc[q] = scnt[q] * k, sd[q] = sdsp[q] * k, rc[q] = rcnt[q] * k, rd[q] = rdsp[q] * k;
+    /* counts in records of k doubles: an int holds 2^31 of them */
+    MPI_Datatype rec;
+    MPI_Type_contiguous(k, MPI_DOUBLE, &rec);
+    MPI_Type_commit(&rec);
+    for (int q = 0; q < R(); q++)
         if (q != me() && scnt[q]) {
-            d->rs.bytes_sent += (uint64_t)sc[q] * sizeof(double);
+            d->rs.bytes_sent += (uint64_t)scnt[q] * (uint64_t)k * sizeof(double);
             d->rs.messages_sent++;
         }
-    }
-    MPI_Alltoallv(s, sc, sd, MPI_DOUBLE, r, rc, rd, MPI_DOUBLE, MPI_COMM_WORLD);
-    free(sc);
+    MPI_Alltoallv(s, scnt, sdsp, rec, r, rcnt, rdsp, rec, MPI_COMM_WORLD);
+    MPI_Type_free(&rec);
 }
 
 /* Receive counts from send counts, and both displacements; the total received. */
@@ -151,10 +148,21 @@ static void cut(psim_dist *d, double L, const double *x, const double *y, size_t
     d->rs.recuts++;
 }
 
-/* The same from every rank's own particles (their places come first). */
+/* The same from every rank's own particles (ghosts left out). */
 static void recut(psim_sim *e)
 {
-    cut(e->dist, e->L, e->st.x, e->st.y, e->dist->n_own, 1);
+    psim_dist *d = e->dist;
+    const psim_store *st = &e->st;
+    double *x = malloc((d->n_own ? d->n_own : 1) * sizeof *x);
+    double *y = malloc((d->n_own ? d->n_own : 1) * sizeof *y);
+    if (!x || !y)
+        out_of_memory("the domains");
+    size_t m = 0;
+    for (size_t i = 0; i < st->n; i++)
+        if (!d->ghost[i])
+            x[m] = st->x[i], y[m++] = st->y[i];
+    cut(d, e->L, x, y, m, 1);
+    free(x), free(y);
 }
 
 /* Records of the store's places idx[0..n) (NULL: 0..n) for rank dest[k],
@@ -390,6 +398,8 @@ int psim_dist_attach(psim_sim *e, const psim_scene *sc, psim_error *err)
     }
     psim_dist *d = calloc(1, sizeof *d);
     if (!d || dist_cuts_alloc(&d->cuts, R(), sc->L)) {
+        if (d)
+            dist_cuts_free(&d->cuts);
         free(d);
         psim_error_set(err, "out of memory");
         return -1;
@@ -614,8 +624,11 @@ psim_sim *psim_dist_view(psim_sim *e)
     for (size_t i = 0, k = 0; i < e->st.n; i++)
         if (!d->ghost[i])
             put_rec(mine + k++ * REC, &e->st, i);
-    int cnt = (int)d->n_own * REC, *cnts = NULL, *dsp = NULL;
+    int cnt = (int)d->n_own, *cnts = NULL, *dsp = NULL;
     double *all = NULL;
+    MPI_Datatype rec;
+    MPI_Type_contiguous(REC, MPI_DOUBLE, &rec);
+    MPI_Type_commit(&rec);
     if (me() == 0) {
         cnts = malloc(2 * (size_t)n * sizeof *cnts);
         all = malloc((size_t)(e->n_all ? e->n_all : 1) * REC * sizeof *all);
@@ -624,9 +637,15 @@ psim_sim *psim_dist_view(psim_sim *e)
         dsp = cnts + n;
     }
     MPI_Gather(&cnt, 1, MPI_INT, cnts, 1, MPI_INT, 0, MPI_COMM_WORLD);
-    for (int q = 0, off = 0; me() == 0 && q < n; q++)
-        dsp[q] = off, off += cnts[q];
-    MPI_Gatherv(mine, cnt, MPI_DOUBLE, all, cnts, dsp, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+    long total = 0;
+    for (int q = 0; me() == 0 && q < n; q++)
+        dsp[q] = (int)total, total += cnts[q];
+    if (me() == 0 && total != e->n_all) {   /* a particle lost or doubled: never written */
+        fprintf(stderr, "psim: the ranks hold %ld particles, not %ld\n", total, e->n_all);
+        psim_dist_abort(1);
+    }
+    MPI_Gatherv(mine, cnt, rec, all, cnts, dsp, rec, 0, MPI_COMM_WORLD);
+    MPI_Type_free(&rec);
     free(mine), free(cnts);
     if (me() != 0)
         return NULL;
@@ -644,6 +663,7 @@ psim_sim *psim_dist_view(psim_sim *e)
     v->st.id = psim_alloc(N * sizeof(int32_t) + 1);
     if (!v->st.x || !v->st.y || !v->st.vx || !v->st.vy || !v->st.id)
         out_of_memory("the state");
+    memset(v->st.id, 0xff, N * sizeof(int32_t));
     for (size_t k = 0; k < N; k++) {
         const double *p = all + k * REC;
         size_t i = (size_t)p[0];
@@ -651,6 +671,11 @@ psim_sim *psim_dist_view(psim_sim *e)
         v->st.x[i] = p[1], v->st.y[i] = p[2], v->st.vx[i] = p[3], v->st.vy[i] = p[4];
     }
     free(all);
+    for (size_t i = 0; i < N; i++)
+        if (v->st.id[i] != (int32_t)i) {
+            fprintf(stderr, "psim: particle %zu is on no rank\n", i);
+            psim_dist_abort(1);
+        }
     return v;
 }
 

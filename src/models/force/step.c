@@ -487,6 +487,19 @@ static void block_naive(const fmodel *m, psim_store *s, ftile *t)
     }
 }
 
+/* Over ranks: whether one of tile t's own particles (not a ghost, whose
+ * move misses the forces from beyond the halo) is outside the box. */
+static int owned_outside(const psim_sim *e, const fmodel *m, const ftile *t)
+{
+    const psim_store *s = &e->st;
+    const double L = m->law.size;
+    for (uint32_t i = t->first; i < t->first + t->n; i++)
+        if (!psim_engine_ghost(e, i) && !(s->x[i] >= 0 && s->x[i] <= L && s->y[i] >= 0 &&
+                                          s->y[i] <= L))
+            return 1;
+    return 0;
+}
+
 /* Totals of the tiles, in tile order: -1 if a particle left the box,
  * -2 if a tile ran out of memory. */
 static int finish(psim_sim *e, fmodel *m)
@@ -508,7 +521,7 @@ static int finish(psim_sim *e, fmodel *m)
         dmin = fmin(dmin, ft->dmin);
         dsum += ft->dsum;
         dn += ft->dn;
-        lost |= ft->lost;
+        lost |= ft->lost && (psim_engine_ranks(e) == 1 || owned_outside(e, m, ft));
     }
     e->stats.counter[FC_PAIR_TESTS] += tests;
     e->stats.counter[FC_INTERACTIONS] += hits;
