@@ -186,13 +186,30 @@ static double *pack_by_rank(const psim_store *st, const uint32_t *idx, const int
     return buf;
 }
 
-/* Whether (x, y) lies in this rank's own domain (its cells' rule:
- * lower sides in, upper sides out). */
-static int inside(const dist_cuts *c, double x, double y)
+/* This rank's own domain: [x0, x1) x [y0, y1). */
+typedef struct rect {
+    double x0, x1, y0, y1;
+} rect;
+
+static rect own_rect(const dist_cuts *c)
 {
     int i = me() / c->py, j = me() % c->py;
     const double *cy = c->cy + (size_t)i * (c->py + 1);
-    return x >= c->cx[i] && x < c->cx[i + 1] && y >= cy[j] && y < cy[j + 1];
+    return (rect){c->cx[i], c->cx[i + 1], cy[j], cy[j + 1]};
+}
+
+/* Whether (x, y) lies in the domain (its cells' rule: lower sides in,
+ * upper sides out). */
+static inline int inside(const rect *r, double x, double y)
+{
+    return x >= r->x0 && x < r->x1 && y >= r->y0 && y < r->y1;
+}
+
+/* Whether (x, y) lies deeper than h inside the domain: then it is near
+ * no other. */
+static inline int deep_inside(const rect *r, double x, double y, double h)
+{
+    return x - r->x0 > h && r->x1 - x > h && y - r->y0 > h && r->y1 - y > h;
 }
 
 /* Migration: every owned particle that left this rank's domain goes to
@@ -211,10 +228,9 @@ static double *migrate(psim_sim *e, size_t *stay, size_t *got)
     if (!out || !dest || !c)
         out_of_memory("an exchange");
     size_t m = 0, w = 0;
+    const rect own = own_rect(&d->cuts);
     for (size_t i = 0; i < st->n; i++) {
-        if (d->ghost[i])
-            continue;
-        if (inside(&d->cuts, st->x[i], st->y[i]))
+        if (d->ghost[i] || inside(&own, st->x[i], st->y[i]))
             continue;
         int q = dist_cuts_owner(&d->cuts, st->x[i], st->y[i]);
         if (q != me())
@@ -242,15 +258,6 @@ static double *migrate(psim_sim *e, size_t *stay, size_t *got)
     return rbuf;
 }
 
-/* Whether (x, y) lies deeper than h inside this rank's own domain:
- * then it is near no other. */
-static int deep_inside(const dist_cuts *c, double x, double y, double h)
-{
-    int i = me() / c->py, j = me() % c->py;
-    const double *cy = c->cy + (size_t)i * (c->py + 1);
-    return x - c->cx[i] > h && c->cx[i + 1] - x > h && y - cy[j] > h && cy[j + 1] - y > h;
-}
-
 /* The ghosts: each owned particle (store places 0..m) to every other rank
  * whose domain it lies within the halo of.  The records received are
  * returned; the ids sent and received are kept, by rank, for the updates. */
@@ -260,7 +267,15 @@ static double *ghosts(psim_sim *e, size_t m, size_t *got)
     const psim_store *st = &e->st;
     int n = R();
     memset(d->scnt, 0, (size_t)n * sizeof *d->scnt);
-    size_t ns = 0;
+    /* the particles near the domain's sides (few), then their ranks */
+    const rect own = own_rect(&d->cuts);
+    uint32_t *near = malloc((m ? m : 1) * sizeof *near);
+    if (!near)
+        out_of_memory("the ghosts");
+    size_t nn = 0, ns = 0;
+    for (size_t k = 0; k < m; k++)
+        if (!deep_inside(&own, st->x[k], st->y[k], d->h))
+            near[nn++] = (uint32_t)k;
     for (int pass = 0; pass < 2; pass++) {
         if (pass) {
             d->send_id = grow(d->send_id, (ns ? ns : 1) * sizeof *d->send_id, "the ghosts");
@@ -268,10 +283,9 @@ static double *ghosts(psim_sim *e, size_t m, size_t *got)
             for (int q = 0, off = 0; q < n; q++)
                 d->sdsp[q] = off, off += d->scnt[q], d->scnt[q] = 0;
         }
-        for (size_t k = 0; k < m; k++) {
+        for (size_t a = 0; a < nn; a++) {
+            size_t k = near[a];
             double x = st->x[k], y = st->y[k];
-            if (deep_inside(&d->cuts, x, y, d->h))
-                continue;
             for (int q = 0; q < n; q++) {
                 if (q == me() || !dist_cuts_near(&d->cuts, q, x, y, d->h))
                     continue;
@@ -285,6 +299,7 @@ static double *ghosts(psim_sim *e, size_t m, size_t *got)
             }
         }
     }
+    free(near);
     d->nsend = ns;
     double *sbuf = malloc((ns ? ns : 1) * REC * sizeof *sbuf);
     if (!sbuf)
