@@ -542,9 +542,11 @@ static char *ranks_json(const psim_sim *s, const psim_rank_stats *per, int n, in
     for (int q = 0; q < n; q++) {
         const psim_rank_stats *r = &per[q];
         fprintf(f, "%s\n    {\"rank\": %d, \"threads\": %d, \"owned\": %ld, \"ghosts\": %ld, "
-                   "\"comm_s\": %.6f, \"bytes_sent\": %llu, \"messages_sent\": %llu, "
+                   "\"comm_s\": %.6f, \"exchange_s\": %.6f, \"update_s\": %.6f, "
+                   "\"wait_s\": %.6f, \"bytes_sent\": %llu, \"messages_sent\": %llu, "
                    "\"exchanges\": %llu, \"recuts\": %llu, \"phases_s\": {",
-                q ? "," : "", q, st->threads, r->owned, r->ghosts, r->comm_s,
+                q ? "," : "", q, st->threads, r->owned, r->ghosts, r->comm_s, r->exchange_s,
+                r->update_s, r->wait_s,
                 (unsigned long long)r->bytes_sent, (unsigned long long)r->messages_sent,
                 (unsigned long long)r->exchanges, (unsigned long long)r->recuts);
         for (int p = 0; p < st->nphases; p++)
@@ -564,9 +566,11 @@ static void ranks_summary(FILE *f, const psim_sim *s, const psim_rank_stats *per
         double busy = 0;
         for (int p = 0; p < st->nphases; p++)
             busy += per[q].phase_s[p];
-        fprintf(f, "    rank %d: %ld disks + %ld ghosts, %.3f s in phases (comm %.3f s), "
-                   "%.1f MB in %llu messages sent, %llu exchanges\n",
-                q, per[q].owned, per[q].ghosts, busy, per[q].comm_s,
+        fprintf(f, "    rank %d: %ld disks + %ld ghosts, %.3f s in phases (comm %.3f s: exchanges "
+                   "%.3f, ghosts %.3f, waiting %.3f), %.1f MB in %llu messages sent, %llu "
+                   "exchanges\n",
+                q, per[q].owned, per[q].ghosts, busy, per[q].comm_s, per[q].exchange_s,
+                per[q].update_s, per[q].wait_s,
                 (double)per[q].bytes_sent / 1e6, (unsigned long long)per[q].messages_sent,
                 (unsigned long long)per[q].exchanges);
     }

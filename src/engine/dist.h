@@ -46,6 +46,8 @@ typedef struct psim_halo {
 typedef struct psim_rank_stats {
     double phase_s[PSIM_PHASES_MAX];
     double comm_s;             /* exchanges, ghost updates and the step's allreduce */
+    double exchange_s, update_s;   /* of which the exchanges, the ghosts' updates */
+    double wait_s;             /* and the step's allreduce: waiting for the slowest rank */
     long owned, ghosts;        /* at the end of the run */
     uint64_t bytes_sent, messages_sent;
     uint64_t exchanges, recuts;

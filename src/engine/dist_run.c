@@ -238,14 +238,21 @@ static double *migrate(psim_sim *e, size_t *stay, size_t *got)
     }
     int *sd = c + n, *rc = sd + n, *rd = rc + n;
     double *sbuf = pack_by_rank(st, out, dest, m, c, sd);
-    for (size_t i = 0; i < st->n; i++) {   /* w <= i: nothing unread is overwritten */
-        if (d->ghost[i])
-            continue;
-        if (w != i) {
-            st->x[w] = st->x[i], st->y[w] = st->y[i], st->vx[w] = st->vx[i];
-            st->vy[w] = st->vy[i], st->id[w] = st->id[i];
-        }
-        w++;
+    /* the particles that stay to places 0..w: the last of them into the
+     * first places of ghosts and leavers (few moves; the order does not
+     * matter, the model sorts after an exchange) */
+    size_t hi = st->n;
+    for (;;) {
+        while (w < hi && !d->ghost[w])
+            w++;
+        while (hi > w && d->ghost[hi - 1])
+            hi--;
+        if (w >= hi)
+            break;
+        size_t i = --hi;
+        st->x[w] = st->x[i], st->y[w] = st->y[i], st->vx[w] = st->vx[i];
+        st->vy[w] = st->vy[i], st->id[w] = st->id[i];
+        d->ghost[w++] = 0, d->ghost[i] = 1;
     }
     size_t r = counts(c, sd, rc, rd);
     double *rbuf = malloc((r ? r : 1) * REC * sizeof *rbuf);
@@ -491,8 +498,10 @@ int psim_dist_prestep(psim_sim *e, psim_error *err)
         exchange(e);
     else
         update(e);
+    double dt = psim_now() - t0;
+    *(d->due ? &d->rs.exchange_s : &d->rs.update_s) += dt;
     d->due = 0;
-    e->stats.phase_s[d->comm_phase] += psim_now() - t0;
+    e->stats.phase_s[d->comm_phase] += dt;
     return 0;
 }
 
@@ -532,7 +541,9 @@ int psim_dist_poststep(psim_sim *e, int rc, psim_error *err)
     double v[3] = {rc && !stopped ? 1 : 0, stopped, rc ? 0 : d->said ? d->moved : drift2(e)};
     if (v[2] != v[2])
         v[2] = INFINITY;
+    double t1 = psim_now();
     MPI_Allreduce(MPI_IN_PLACE, v, 3, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+    d->rs.wait_s += psim_now() - t1;
     e->stats.phase_s[d->comm_phase] += psim_now() - t0;
     if (v[0] || v[1]) {
         if (!rc && v[1])
