@@ -128,3 +128,18 @@ outputs_open()
     kill -KILL "$pid" 2>/dev/null || true
     fail "process $pid did not open its outputs in $dir in 10 s"
 }
+
+# mpi_setup: the environment of runs under mpirun (as root, as CI runs;
+# ranks that yield their core while they wait, on 2 cores; under
+# LeakSanitizer whole stacks, so that tests/lsan.supp sees Open MPI's
+# frames).  Returns 1 when psim was built without MPI; fails when it has
+# MPI but mpirun is missing.
+mpi_setup()
+{
+    export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_mpi_yield_when_idle=1
+    if [[ -n ${LSAN_OPTIONS:-} && $LSAN_OPTIONS != *fast_unwind_on_malloc=0* ]]; then
+        export LSAN_OPTIONS="$LSAN_OPTIONS:fast_unwind_on_malloc=0"
+    fi
+    "$PSIM" --version | grep -q "MPI on" || return 1
+    command -v mpirun >/dev/null || fail "psim has MPI but mpirun is missing (openmpi-bin)"
+}

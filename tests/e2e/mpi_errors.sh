@@ -5,14 +5,10 @@ set -euo pipefail
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 source "$(dirname "$0")/lib.sh" "$@"
 
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_mpi_yield_when_idle=1
-[[ -n ${LSAN_OPTIONS:-} ]] && export LSAN_OPTIONS="$LSAN_OPTIONS:fast_unwind_on_malloc=0"
-
-if ! "$PSIM" --version | grep -q "MPI on"; then
+if ! mpi_setup; then
     echo "ok: psim built without MPI: no ranks to fail (tests/e2e/mpi_force.sh checks the refusal)"
     exit 0
 fi
-command -v mpirun >/dev/null || fail "psim has MPI but mpirun is missing (openmpi-bin)"
 
 # 3000 overlapping disks at dt 1: the repulsion throws disks out of the
 # box, in a box of 40 in the first step in every domain (each rank fails

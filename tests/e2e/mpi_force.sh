@@ -8,21 +8,15 @@ set -euo pipefail
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 source "$(dirname "$0")/lib.sh" "$@"
 
-# as root (CI), and ranks that yield their core while they wait (2 cores)
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_mpi_yield_when_idle=1
-# under LeakSanitizer: whole stacks, so that tests/lsan.supp sees Open MPI's frames
-[[ -n ${LSAN_OPTIONS:-} ]] && export LSAN_OPTIONS="$LSAN_OPTIONS:fast_unwind_on_malloc=0"
 # mpirun -np R PSIM ARGS...
 mpi() { local r=$1; shift; mpirun -q --oversubscribe -np "$r" "$PSIM" "$@"; }
 
-if ! "$PSIM" --version | grep -q "MPI on"; then
-    command -v mpirun >/dev/null || fail "psim built without MPI, and no mpirun to check its refusal"
+if ! mpi_setup; then
     expect_fail --rc 2 "built without MPI" env OMPI_COMM_WORLD_SIZE=2 OMPI_COMM_WORLD_RANK=0 \
         "$PSIM" --model force -n 100 -q
     echo "ok: a build without MPI refuses ranks"
     exit 0
 fi
-command -v mpirun >/dev/null || fail "psim has MPI but mpirun is missing (openmpi-bin)"
 
 # Same bytes: the course's output (-o) and the final state (--final).
 for n in 700 3000; do

@@ -8,15 +8,10 @@ set -euo pipefail
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 source "$(dirname "$0")/lib.sh" "$@"
 
-# as root (CI), and ranks that yield their core while they wait (2 cores)
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_mpi_yield_when_idle=1
-[[ -n ${LSAN_OPTIONS:-} ]] && export LSAN_OPTIONS="$LSAN_OPTIONS:fast_unwind_on_malloc=0"
-
-if ! "$PSIM" --version | grep -q "MPI on"; then
+if ! mpi_setup; then
     echo "ok: psim built without MPI: no ranks to signal (tests/e2e/mpi_force.sh checks the refusal)"
     exit 0
 fi
-command -v mpirun >/dev/null || fail "psim has MPI but mpirun is missing (openmpi-bin)"
 
 out=$tmp/out
 mkdir "$out"
