@@ -130,8 +130,9 @@ class Help:
 
 
 def parse_models(text):
-    """`psim models`: a line per model (name, summary), then its options
-    ("--option KEY=V: text")."""
+    """`psim models`: a line per model (name, summary), then its notes
+    (indented lines that are not options: added to the summary) and its
+    options ("--option KEY=V: text")."""
     models = []
     for line in text.rstrip("\n").split("\n"):
         if not line.strip():
@@ -141,6 +142,9 @@ def parse_models(text):
             if not WORD.match(name):
                 die("psim models: cannot read the model line '%s'" % line)
             models.append((name, summary.strip(), []))
+        elif models and not models[-1][2] and not line.strip().startswith("--"):
+            name, summary, opts = models[-1]
+            models[-1] = (name, "%s; %s" % (summary, line.strip()), opts)
         else:
             m = re.match(r"^\s+--option ([a-z0-9_]+)=(\S*): (.*)$", line)
             if not m or not models:

@@ -24,6 +24,7 @@
 #include "version.h"
 #include "../io/scene.h"
 #include "../engine/dist.h"
+#include "../models/models.h"
 #include "../engine/timer.h"
 
 static int default_scene(psim_scene *sc, psim_error *err)
@@ -759,7 +760,7 @@ int cli_models(int argc, char **argv)
 {
     if (argc == 2 && (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h"))) {
         printf("usage: psim models\n\nList the models, one line each, with their options "
-               "(--option NAME=V).\n\noptions:\n  -h, --help     show this help\n"
+               "(--option NAME=V)\nand whether they run over MPI ranks.\n\noptions:\n  -h, --help     show this help\n"
                "  -V, --version  show the version\n");
         return 0;
     }
@@ -773,6 +774,8 @@ int cli_models(int argc, char **argv)
     }
     for (int k = 0; k < psim_model_count(); k++) {
         printf("%-10s %s\n", psim_model_name(k), psim_model_summary(k));
+        if (psim_model_distributed(k))
+            printf("%-10s   runs over MPI ranks (mpirun -np R psim ...: docs/scale-out.md)\n", "");
         const char *name, *help;
         for (int i = 0; psim_model_option_info(k, i, &name, &help) == 0; i++)
             printf("%-10s   --option %s=V: %s\n", "", name, help);

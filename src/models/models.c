@@ -34,6 +34,11 @@ const char *psim_model_summary(int k)
     return k >= 0 && k < NMODELS ? models[k]->summary : NULL;
 }
 
+int psim_model_distributed(int k)
+{
+    return k >= 0 && k < NMODELS && models[k]->halo != NULL;
+}
+
 const psim_model *psim_model_find(const char *name)
 {
     for (int k = 0; k < NMODELS; k++)

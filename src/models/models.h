@@ -5,5 +5,7 @@
 #include "../engine/model.h"
 
 const psim_model *psim_model_find(const char *name);
+/* Whether model k runs over MPI ranks (it has a halo). */
+int psim_model_distributed(int k);
 
 #endif
