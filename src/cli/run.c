@@ -529,9 +529,11 @@ static char *ranks_json(const psim_sim *s, const psim_rank_stats *per, int n, in
     if (!f)
         return NULL;
     const psim_stats *st = psim_get_stats(s);
+    /* the imbalance: the busiest rank's work (its phases less its waiting
+     * for the others) over the mean */
     double most = 0, sum = 0;
     for (int q = 0; q < n; q++) {
-        double busy = 0;
+        double busy = -per[q].wait_s;
         for (int p = 0; p < st->nphases; p++)
             busy += per[q].phase_s[p];
         most = busy > most ? busy : most, sum += busy;
@@ -539,7 +541,7 @@ static char *ranks_json(const psim_sim *s, const psim_rank_stats *per, int n, in
     /* (pinned under a launcher, the pin section has "rank" and "ranks") */
     if (!pinned)
         fprintf(f, "  \"ranks\": %d,\n", n);
-    fprintf(f, "  \"imbalance\": %.4f,\n  \"per_rank\": [", sum > 0 ? most / (sum / n) : 1.0);
+    fprintf(f, "  \"rank_imbalance\": %.4f,\n  \"per_rank\": [", sum > 0 ? most / (sum / n) : 1.0);
     for (int q = 0; q < n; q++) {
         const psim_rank_stats *r = &per[q];
         fprintf(f, "%s\n    {\"rank\": %d, \"threads\": %d, \"owned\": %ld, \"ghosts\": %ld, "
@@ -715,7 +717,7 @@ int cli_run(int argc, char **argv)
         char *pin_json = cli_pin_json(&o.pin), *thr_json = cli_threads_json(s, &o.pin),
              *prov_json = cli_provenance_json(&start);
         char *extra = NULL, *rk_json = per ? ranks_json(s, per, ranks, o.pin.ranked)
-                                  : strdup(o.pin.ranked ? "  \"imbalance\": 1" : "  \"ranks\": 1");
+                                  : strdup(o.pin.ranked ? "  \"rank_imbalance\": 1" : "  \"ranks\": 1");
         if (pin_json && thr_json && prov_json && rk_json &&
             asprintf(&extra, "  \"read_s\": %.6f,\n  \"peak_rss_bytes\": %lld,\n%s,\n%s,\n%s,\n%s\n",
                      o.read_s, cli_peak_rss(), pin_json, thr_json, prov_json, rk_json) < 0)

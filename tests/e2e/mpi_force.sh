@@ -60,7 +60,18 @@ for r in 3 4; do
         --stats "$tmp/fast.json"
     same_file "$tmp/fast1.txt" "$tmp/fastr.txt" "fast disks over $r ranks"
 done
-grep -q '"ranks": 4' "$tmp/fast.json" || fail "--stats lacks \"ranks\": 4"
+/usr/bin/python3 - "$tmp/fast.json" <<'PY' || fail "--stats over 4 ranks: $(cat "$tmp/fast.json")"
+import json, sys
+def unique(pairs):
+    keys = [k for k, _ in pairs]
+    assert len(keys) == len(set(keys)), "a key twice: %s" % keys
+    return dict(pairs)
+s = json.load(open(sys.argv[1]), object_pairs_hook=unique)
+assert s["ranks"] == 4 and len(s["per_rank"]) == 4, s
+assert sum(r["owned"] for r in s["per_rank"]) == s["n"], s["per_rank"]
+assert all(r["comm_s"] >= r["wait_s"] >= 0 and "comm" in r["phases_s"] for r in s["per_rank"])
+assert s["rank_imbalance"] >= 1.0, s["rank_imbalance"]
+PY
 exchanges=$(grep -o '"exchanges": [0-9]*' "$tmp/fast.json" | head -1 | grep -o '[0-9]*$')
 ((exchanges >= 25)) || fail "fast disks: $exchanges exchanges in 30 steps (one a step expected)"
 echo "ok: disks crossing several domains a step keep the bytes"
