@@ -35,11 +35,19 @@ static int default_scene(psim_scene *sc, psim_error *err)
     return psim_scene_generate(&p, sc, err);
 }
 
+/* The model's own scene of -n and -s; over MPI ranks each rank makes its
+ * own block of ids alone (the engine sends them to their owners). */
+static int make_scene(const run_opts *o, psim_scene *sc, psim_error *err)
+{
+    return psim_generate_scene_part(o->model, o->n, o->seed, psim_dist_rank(),
+                                    psim_dist_ranks(), sc, err);
+}
+
 static int load_scene(run_opts *o, psim_scene *sc, psim_error *err)
 {
     if (o->n >= 0) {
         snprintf(o->label, sizeof o->label, "n %ld, seed %llu", o->n, o->seed);
-        return psim_generate_scene(o->model, o->n, o->seed, sc, err);
+        return make_scene(o, sc, err);
     }
     /* the name as messages and the summary show it: control bytes escaped */
     cli_escape(o->label, sizeof o->label, o->scene ? o->scene : "default scene");
@@ -75,7 +83,7 @@ static int reload_scene(const run_opts *o, psim_scene *sc)
     int rc;
     struct stat st;
     if (o->n >= 0)
-        rc = psim_generate_scene(o->model, o->n, o->seed, sc, &e);
+        rc = make_scene(o, sc, &e);
     else if (!o->scene)
         rc = default_scene(sc, &e);
     else if (!rereadable(o) || stat(o->scene, &st) ||
@@ -143,7 +151,7 @@ static void print_summary(FILE *f, const run_opts *o, const psim_scene *sc,
     const psim_stats *st = psim_get_stats(s);
     double steps = st->steps > 0 ? (double)st->steps : 1.0;
     fprintf(f, "psim %s: %s model, %s: %ld disks, L %g, r %g, density %.3f\n",
-            PSIM_VERSION, psim_sim_model(s), o->label, sc->n,
+            PSIM_VERSION, psim_sim_model(s), o->label, psim_scene_count(sc),
             sc->L, sc->r, psim_scene_density(sc));
     fprintf(f, "  %ld steps on %d threads in %.3f s (%.3f ms/step)%s\n", st->steps,
             st->threads, secs, 1e3 * secs / steps, o->check ? ", every step checked" : "");
@@ -256,14 +264,14 @@ static int write_step(const run_opts *o, psim_sim *s, long k, long last, run_sta
 }
 
 /* Over ranks: whether a step of the start that some rank failed (rc)
- * failed on any; the lowest rank that failed says why (msg), the others
- * keep quiet.  Without ranks: rc, said. */
+ * failed on any; the lowest rank that failed with a message (msg) says
+ * why, the others keep quiet.  Without ranks: rc, said. */
 static int ranks_failed(int rc, const char *msg)
 {
-    int low = psim_dist_agree(rc != 0);
-    if (low >= 0 && low == psim_dist_rank() && msg && *msg)
+    const int said = rc != 0 && msg && *msg;
+    if (psim_dist_agree(said) == psim_dist_rank() && said)
         cli_err("psim: %s", msg);
-    return low >= 0;
+    return psim_dist_agree(rc != 0) >= 0;
 }
 
 /* --restart-every: the state after step k as the restart file, in place

@@ -79,6 +79,14 @@ double psim_dist_max(double v)
     return m;
 }
 
+double psim_dist_sum(double v)
+{
+    double m = v;
+    if (g_ranks > 1)
+        MPI_Allreduce(&v, &m, 1, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+    return m;
+}
+
 _Noreturn void psim_dist_abort(int code)
 {
     if (g_started)
@@ -105,6 +113,7 @@ int psim_dist_start(int *argc, char ***argv, psim_error *err)
 void psim_dist_finish(void) {}
 int psim_dist_agree(int failed) { return failed ? 0 : -1; }
 double psim_dist_max(double v) { return v; }
+double psim_dist_sum(double v) { return v; }
 _Noreturn void psim_dist_abort(int code) { exit(code); }
 
 #endif

@@ -66,6 +66,8 @@ int psim_dist_ranks(void);
 int psim_dist_agree(int failed);
 /* Collective: the largest of every rank's v. */
 double psim_dist_max(double v);
+/* Collective: the sum of every rank's v, added in an order of MPI's. */
+double psim_dist_sum(double v);
 /* End every rank of the job now (a failure past which ranks cannot agree). */
 _Noreturn void psim_dist_abort(int code);
 

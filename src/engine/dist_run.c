@@ -36,12 +36,17 @@ typedef struct psim_dist {
     double moved;             /* this step's, as the model said (psim_engine_moved) */
     int said;                 /* the model said it this step */
     int says;                 /* the model says it every step (it did once) */
+    int unsaid;               /* a step ended without its saying it: the drift
+                               * is measured from the positions at the exchange */
     int *scnt, *sdsp, *rcnt, *rdsp;   /* ghosts to / from each rank */
     int32_t *send_id, *recv_id;
     uint32_t *send_slot, *recv_slot;
     size_t nsend, nrecv;
     uint8_t *ghost;           /* by store place */
-    double *x0, *y0;          /* by store place: positions at the exchange */
+    double *x0, *y0;          /* by store place: positions at the exchange, for
+                               * a model that does not say how far they moved
+                               * (NULL once it has: 16 bytes a particle) */
+    size_t cap0;
     uint32_t *from, *where;   /* the sort's permutation (store.from), its inverse */
     uint8_t *ghost2;
     size_t cap;
@@ -63,14 +68,12 @@ static int places(psim_dist *d, size_t n)
     if (n <= d->cap)
         return 0;
     size_t c = n + n / 4 + 64;
-    free(d->ghost), free(d->x0), free(d->y0), free(d->from), free(d->where), free(d->ghost2);
+    free(d->ghost), free(d->from), free(d->where), free(d->ghost2);
     d->ghost = malloc(c);
     d->ghost2 = malloc(c);
-    d->x0 = malloc(c * sizeof *d->x0);
-    d->y0 = malloc(c * sizeof *d->y0);
     d->from = malloc(c * sizeof *d->from);
     d->where = malloc(c * sizeof *d->where);
-    d->cap = d->ghost && d->ghost2 && d->x0 && d->y0 && d->from && d->where ? c : 0;
+    d->cap = d->ghost && d->ghost2 && d->from && d->where ? c : 0;
     return d->cap ? 0 : -1;
 }
 
@@ -339,6 +342,11 @@ static void get_rec(psim_store *st, size_t i, const double *p)
 static void mark(psim_sim *e)
 {
     psim_dist *d = e->dist;
+    if (e->st.n > d->cap0) {
+        d->cap0 = e->st.n + e->st.n / 4 + 64;
+        d->x0 = grow(d->x0, d->cap0 * sizeof *d->x0, "the particles");
+        d->y0 = grow(d->y0, d->cap0 * sizeof *d->y0, "the particles");
+    }
     memcpy(d->x0, e->st.x, e->st.n * sizeof *d->x0);
     memcpy(d->y0, e->st.y, e->st.n * sizeof *d->y0);
     d->drift = 0;
@@ -372,7 +380,7 @@ static void exchange(psim_sim *e)
     memset(d->ghost, 0, m);
     memset(d->ghost + m, 1, g);
     st->from = d->from;   /* the next sort says where it took each particle */
-    if (!d->says)
+    if (d->unsaid)
         mark(e);
     d->drift = 0;
     d->exchanged = 1;
@@ -409,6 +417,59 @@ static void update(psim_sim *e)
     free(s), free(r);
 }
 
+/* The store for a rank's own particles, with a little room for the
+ * ghosts; empty. */
+static int own_store(psim_sim *e, size_t own, psim_error *err)
+{
+    psim_dist *d = e->dist;
+    if (psim_store_init(&e->st, own + own / 32 + 1024) || places(d, own + own / 32 + 1024)) {
+        psim_error_set(err, "out of memory for %zu particles", own);
+        return -1;
+    }
+    e->st.n = 0;
+    d->n_own = own;
+    memset(d->ghost, 0, own);
+    e->n = (long)own;
+    return 0;
+}
+
+/* A part of a scene on each rank (scene.h): the domains cut from every
+ * rank's part together, and each particle sent to its owner, so that no
+ * rank holds more than its part and its own particles. */
+static int keep_part(psim_sim *e, const psim_scene *sc, psim_error *err)
+{
+    psim_dist *d = e->dist;
+    const size_t n = (size_t)sc->n;
+    cut(d, sc->L, sc->x, sc->y, n, 1);
+    int *dest = malloc((n ? n : 1) * sizeof *dest);
+    if (!dest)
+        out_of_memory("the scene");
+    memset(d->scnt, 0, (size_t)R() * sizeof *d->scnt);
+    for (size_t i = 0; i < n; i++)
+        d->scnt[dest[i] = dist_cuts_owner(&d->cuts, sc->x[i], sc->y[i])]++;
+    size_t own = counts(d->scnt, d->sdsp, d->rcnt, d->rdsp);
+    double *sbuf = malloc((n ? n : 1) * REC * sizeof *sbuf);
+    int *at = malloc((size_t)R() * sizeof *at);
+    if (!sbuf || !at)
+        out_of_memory("the scene");
+    memcpy(at, d->sdsp, (size_t)R() * sizeof *at);
+    for (size_t i = 0; i < n; i++) {
+        double *o = sbuf + (size_t)at[dest[i]]++ * REC;
+        o[0] = sc->id[i], o[1] = sc->x[i], o[2] = sc->y[i], o[3] = sc->vx[i], o[4] = sc->vy[i];
+    }
+    free(at), free(dest);
+    double *rbuf = malloc((own ? own : 1) * REC * sizeof *rbuf);
+    if (!rbuf)
+        out_of_memory("the scene");
+    alltoallv(d, sbuf, d->scnt, d->sdsp, rbuf, d->rcnt, d->rdsp, REC);
+    free(sbuf);
+    int rc = own_store(e, own, err);
+    for (size_t k = 0; rc == 0 && k < own; k++)
+        get_rec(&e->st, e->st.n++, rbuf + k * REC);
+    free(rbuf);
+    return rc;
+}
+
 int psim_dist_attach(psim_sim *e, const psim_scene *sc, psim_error *err)
 {
     const psim_model *m = e->model;
@@ -437,24 +498,20 @@ int psim_dist_attach(psim_sim *e, const psim_scene *sc, psim_error *err)
     d->due = d->regrid = 1;
     d->comm_phase = e->stats.nphases;
     e->stats.phase_name[e->stats.nphases++] = "comm";
+    if (sc->id)
+        return keep_part(e, sc, err);
     /* every rank holds the whole scene here: each cuts the domains from it
      * alike and keeps its own particles (a little room for the ghosts) */
     cut(d, sc->L, sc->x, sc->y, (size_t)sc->n, 0);
     size_t own = 0;
     for (long i = 0; i < sc->n; i++)
         own += dist_cuts_owner(&d->cuts, sc->x[i], sc->y[i]) == me();
-    if (psim_store_init(&e->st, own + own / 32 + 1024) || places(d, own + own / 32 + 1024)) {
-        psim_error_set(err, "out of memory for %zu particles", own);
+    if (own_store(e, own, err))
         return -1;
-    }
-    e->st.n = 0;
     for (long i = 0; i < sc->n; i++)
         if (dist_cuts_owner(&d->cuts, sc->x[i], sc->y[i]) == me())
             get_rec(&e->st, e->st.n++, (const double[REC]){(double)i, sc->x[i], sc->y[i],
                                                              sc->vx[i], sc->vy[i]});
-    d->n_own = own;
-    memset(d->ghost, 0, own);
-    e->n = (long)own;
     return 0;
 }
 
@@ -512,6 +569,8 @@ static double drift2(const psim_sim *e)
     const psim_dist *d = e->dist;
     const psim_store *st = &e->st;
     double m = 0;
+    if (!d->x0)   /* no origin yet: exchange, and measure from there */
+        return INFINITY;
     for (size_t i = 0; i < st->n; i++) {
         if (d->ghost[i])
             continue;
@@ -538,6 +597,7 @@ int psim_dist_poststep(psim_sim *e, int rc, psim_error *err)
     double t0 = psim_now();
     const int stopped = psim_stop_requested();
     /* the drift: the step's as the model said it (summed), or measured */
+    d->unsaid |= !d->said;
     double v[3] = {rc && !stopped ? 1 : 0, stopped, rc ? 0 : d->said ? d->moved : drift2(e)};
     if (v[2] != v[2])
         v[2] = INFINITY;
@@ -553,6 +613,10 @@ int psim_dist_poststep(psim_sim *e, int rc, psim_error *err)
         return -1;
     }
     d->drift = d->said ? d->drift + v[2] : sqrt(v[2]);
+    if (d->said && d->x0) {   /* the model says it: no origin needed */
+        free(d->x0), free(d->y0);
+        d->x0 = d->y0 = NULL, d->cap0 = 0;
+    }
     d->said = 0, d->moved = 0;
     d->due = !(2 * d->drift <= d->halo.skin);
     return 0;
@@ -634,7 +698,7 @@ void psim_dist_sorted(psim_sim *e)
      * the places): the next step exchanges */
     if (!d->exchanged && !d->says)
         d->due = 1;
-    if (!d->says)
+    if (d->unsaid)
         mark(e);
     d->exchanged = 0;
     e->stats.phase_s[d->comm_phase] += psim_now() - t0;

@@ -341,7 +341,7 @@ psim_sim *psim_engine_create(psim_scene *sc, const psim_config *cfg,
     e->threads = cfg->threads > 0 ? cfg->threads : omp_get_max_threads();
     if (e->threads > omp_get_thread_limit())   /* no team gets more (OMP_THREAD_LIMIT) */
         e->threads = omp_get_thread_limit();
-    e->n = e->n_all = sc->n;
+    e->n = e->n_all = psim_scene_all(sc);
     e->L = sc->L;
     e->r = sc->r;
     e->model = model;
@@ -368,6 +368,9 @@ psim_sim *psim_engine_create(psim_scene *sc, const psim_config *cfg,
         }
         if (psim_dist_attach(e, sc, err))
             goto fail;
+    } else if (sc->id) {   /* (scene.h: each rank's part) */
+        psim_error_set(err, "a part of a scene runs over MPI ranks only");
+        goto fail;
     } else if (store_fill(e, sc, err))
         goto fail;
     if (take) {

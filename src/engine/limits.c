@@ -9,30 +9,43 @@
 #include <math.h>
 #include <stdio.h>
 
+#include "dist.h"
 #include "engine.h"
 
 /* S = sqrt(sum of vx^2 + vy^2), the speed one disk may reach, summed in
  * units of a power of two at or above the largest component (as --check
  * sums energies) so that the sum itself cannot overflow; infinite only
  * when S is beyond the largest double.  *fastest: the disk with the
- * largest speed (the lowest id of equals). */
+ * largest speed (the lowest id of equals).  Of a part of a scene (over
+ * MPI ranks) S is the whole scene's, its sum added up rank by rank (its
+ * last bits may differ from one process's: a limit of overflow is far
+ * from them), and *fastest is -1 on the ranks that do not hold that disk. */
 static double speed_reach(const psim_scene *sc, long *fastest)
 {
+    const int part = sc->id != NULL;
     double m = 0;
     *fastest = 0;
     for (long i = 0; i < sc->n; i++)
         m = fmax(m, fmax(fabs(sc->vx[i]), fabs(sc->vy[i])));
+    if (part)
+        m = psim_dist_max(m);
     if (m == 0)
         return 0;
     int ex;
     frexp(m, &ex);
     const double k = ldexp(1.0, -ex);   /* exact, as a power of two */
     double sum = 0, best = -1;
+    *fastest = -1;
     for (long i = 0; i < sc->n; i++) {
         double u = sc->vx[i] * k, w = sc->vy[i] * k, q = u * u + w * w;
         sum += q;
         if (q > best)
             best = q, *fastest = i;
+    }
+    if (part) {
+        sum = psim_dist_sum(sum);
+        if (best < psim_dist_max(best))
+            *fastest = -1;
     }
     return ldexp(sqrt(sum), ex);
 }
@@ -82,7 +95,7 @@ static int positions(const psim_sim *e, const psim_scene *sc, const psim_limit *
         psim_scene_where(sc, i, at, sizeof at);
         psim_error_set(err, "%sdisk %ld: %s = %g is too large for the %s model (|x| and |y| "
                             "at most %g: %s would overflow)",
-                       at, i, is_x ? "x" : "y", is_x ? sc->x[i] : sc->y[i], e->model->name,
+                       at, psim_scene_id(sc, i), is_x ? "x" : "y", is_x ? sc->x[i] : sc->y[i], e->model->name,
                        p->most, p->why);
         return -1;
     }
@@ -104,6 +117,10 @@ static int speeds(const psim_sim *e, const psim_scene *sc, const psim_limits *li
               over_rs = rs->most > 0 && !(S <= rs->most / sc->r);
     if (!over_s && !over_bs && !over_rs)
         return 0;
+    if (i < 0) {   /* a part: the rank that holds the disk says it */
+        psim_error_set(err, "%s", "");
+        return -1;
+    }
     char at[320], st[48];
     psim_scene_where(sc, i, at, sizeof at);
     speed_text(S, st, sizeof st);
@@ -132,13 +149,18 @@ int psim_engine_limits(const psim_sim *e, const psim_scene *sc, psim_error *err)
     if (!e->model->limits)
         return 0;
     psim_limits lim = {0};
-    if (e->model->limits(e, sc, &lim, err))
-        return -1;
-    if (box_radius(e, sc, &lim, err) || positions(e, sc, &lim.at[PSIM_LIMIT_POSITION], err) ||
-        speeds(e, sc, &lim, err)) {
-        if (err)
-            err->usage = 0;
+    int rc = e->model->limits(e, sc, &lim, err) ? -1 : 0;   /* (its err->usage) */
+    if (!rc && (box_radius(e, sc, &lim, err) || positions(e, sc, &lim.at[PSIM_LIMIT_POSITION], err)))
+        rc = -2;
+    /* a part of a scene (over MPI ranks): a disk beyond a limit is on one
+     * rank, which says it, and every rank stops before S, which all make */
+    if (sc->id && psim_dist_agree(rc != 0) >= 0 && !rc) {
+        psim_error_set(err, "%s", "");
         return -1;
     }
-    return 0;
+    if (!rc && speeds(e, sc, &lim, err))
+        rc = -2;
+    if (rc == -2 && err)
+        err->usage = 0;
+    return rc ? -1 : 0;
 }

@@ -139,8 +139,10 @@ typedef struct psim_model {
      * (psim_engine_exchanged); what it sums over particles, it sums over
      * its own (psim_engine_ghost). */
     int (*halo)(const struct psim_sim *e, const void *m, psim_halo *h);
-    /* optional: its source's own initial state of n particles from seed */
-    int (*generate)(psim_scene *sc, long n, uint64_t seed, psim_error *err);
+    /* optional: its source's own initial state of n particles from seed,
+     * particles lo..hi-1 of it alone (sc then holds hi - lo; over MPI
+     * ranks each rank makes its own block of ids) */
+    int (*generate)(psim_scene *sc, long n, uint64_t seed, long lo, long hi, psim_error *err);
     void (*destroy)(void *m);
 } psim_model;
 

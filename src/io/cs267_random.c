@@ -160,10 +160,10 @@ float psim_uniform_real_float(psim_mt19937 *g, float a, float b)
     return scaled + a;
 }
 
-int psim_cs267_place(long n, uint64_t seed, double size, double *x, double *y,
-                     double *vx, double *vy)
+int psim_cs267_place_part(long n, uint64_t seed, double size, long lo, long hi, double *x,
+                          double *y, double *vx, double *vy)
 {
-    if (n < 0 || n > INT_MAX)
+    if (n < 0 || n > INT_MAX || lo < 0 || hi > n || lo > hi)
         return -1;
     int num = (int)n;
     int *shuffle = malloc((num ? (size_t)num : 1) * sizeof *shuffle);
@@ -179,16 +179,29 @@ int psim_cs267_place(long n, uint64_t seed, double size, double *x, double *y,
     int sy = num ? (num + sx - 1) / sx : 0;
     for (int i = 0; i < num; i++)
         shuffle[i] = i;
-    for (int i = 0; i < num; i++) {
+    /* the particles before lo draw as many numbers as in the whole run
+     * (the shuffle and both velocities), kept by none */
+    for (int i = 0; i < (int)hi; i++) {
         int j = psim_uniform_int(g, 0, num - i - 1);
         int k = shuffle[j];
         shuffle[j] = shuffle[num - i - 1];
-        x[i] = size * (1. + (k % sx)) / (1 + sx);
-        y[i] = size * (1. + (k / sx)) / (1 + sy);
-        vx[i] = psim_uniform_real_float(g, -1.0f, 1.0f);
-        vy[i] = psim_uniform_real_float(g, -1.0f, 1.0f);
+        float u = psim_uniform_real_float(g, -1.0f, 1.0f);
+        float w = psim_uniform_real_float(g, -1.0f, 1.0f);
+        if (i < lo)
+            continue;
+        long o = i - lo;
+        x[o] = size * (1. + (k % sx)) / (1 + sx);
+        y[o] = size * (1. + (k / sx)) / (1 + sy);
+        vx[o] = u;
+        vy[o] = w;
     }
     free(g);
     free(shuffle);
     return 0;
+}
+
+int psim_cs267_place(long n, uint64_t seed, double size, double *x, double *y,
+                     double *vx, double *vy)
+{
+    return psim_cs267_place_part(n, seed, size, 0, n, x, y, vx, vy);
 }

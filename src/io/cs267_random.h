@@ -39,5 +39,10 @@ float psim_uniform_real_float(psim_mt19937 *g, float a, float b);
  * array cannot be allocated. */
 int psim_cs267_place(long n, uint64_t seed, double size, double *x, double *y,
                      double *vx, double *vy);
+/* The same, particles lo..hi-1 of them alone into x, y, vx, vy (hi - lo
+ * entries each): the numbers drawn for the others are drawn and dropped,
+ * the shuffle array (n ints) is the only memory of n. */
+int psim_cs267_place_part(long n, uint64_t seed, double size, long lo, long hi, double *x,
+                          double *y, double *vx, double *vy);
 
 #endif

@@ -28,13 +28,14 @@ static double uniform(uint64_t *s, double lo, double hi)
 
 double psim_scene_density(const psim_scene *sc)
 {
-    if (sc->n == 0)   /* also for a box of side 0 */
+    const double n = (double)psim_scene_all(sc);
+    if (n == 0)   /* also for a box of side 0 */
         return 0.0;
     if (isfinite(sc->L * sc->L))   /* then r^2 too: 2r < L */
-        return (double)sc->n * M_PI * sc->r * sc->r / (sc->L * sc->L);
+        return n * M_PI * sc->r * sc->r / (sc->L * sc->L);
     /* L^2 overflows (a side past about 1.3e154): r / L first, below 1/2 */
     double q = sc->r / sc->L;
-    return (double)sc->n * M_PI * q * q;
+    return n * M_PI * q * q;
 }
 
 /* Random sequential addition on a grid of cells of side >= 2r. */

@@ -63,7 +63,17 @@ struct psim_scene {
     long *line;     /* n: the line of each particle in it (NULL likewise) */
     long header_line[4];    /* the lines of N, L, r and S in it (0 likewise) */
     psim_restart restart;   /* present: the scene is a restart file */
+    /* A part of a scene (over MPI ranks, each rank makes or reads one):
+     * n of its n_all particles, whose ids are id[0..n-1].  NULL: the whole
+     * scene, ids 0..n-1 (n_all unused). */
+    int32_t *id;
+    long n_all;
 };
+
+/* The particles of the whole scene sc is (a part of). */
+static inline long psim_scene_all(const psim_scene *sc) { return sc->id ? sc->n_all : sc->n; }
+/* The id of sc's particle i. */
+static inline long psim_scene_id(const psim_scene *sc, long i) { return sc->id ? sc->id[i] : i; }
 
 /* Allocate the arrays of a scene of n particles (zeroed). */
 int psim_scene_alloc(psim_scene *sc, long n, psim_error *err);

@@ -151,7 +151,7 @@ int psim_scene_get_state(const psim_scene *sc, double *x, double *y, double *vx,
     return 0;
 }
 
-long psim_scene_count(const psim_scene *sc) { return sc->n; }
+long psim_scene_count(const psim_scene *sc) { return psim_scene_all(sc); }
 double psim_scene_side(const psim_scene *sc) { return sc->L; }
 double psim_scene_radius(const psim_scene *sc) { return sc->r; }
 long psim_scene_steps(const psim_scene *sc) { return sc->steps; }

@@ -689,6 +689,7 @@ int psim_scene_alloc(psim_scene *sc, long n, psim_error *err)
     sc->n = n;
     sc->source = NULL;
     sc->line = NULL;
+    sc->id = NULL;
     sc->x = calloc(1, b);
     sc->y = calloc(1, b);
     sc->vx = calloc(1, b);
@@ -727,8 +728,10 @@ void psim_scene_clear(psim_scene *sc)
     free(sc->vy);
     free(sc->source);
     free(sc->line);
+    free(sc->id);
     psim_restart_free(&sc->restart);
     sc->x = sc->y = sc->vx = sc->vy = NULL;
     sc->source = NULL;
     sc->line = NULL;
+    sc->id = NULL;
 }

@@ -2,6 +2,7 @@
  * model (docs/adding-a-model.md): a folder under src/models/ that defines
  * one psim_model, psim_model_NAME, and one line PSIM_MODEL(NAME) in the
  * list below; CMake compiles every src/models/<folder>/<file>.c. */
+#include <stdlib.h>
 #include <string.h>
 
 #include "models.h"
@@ -70,6 +71,12 @@ int psim_model_option_info(int k, int i, const char **name, const char **help)
 int psim_generate_scene(const char *name, long n, uint64_t seed, psim_scene *sc,
                         psim_error *err)
 {
+    return psim_generate_scene_part(name, n, seed, 0, 1, sc, err);
+}
+
+int psim_generate_scene_part(const char *name, long n, uint64_t seed, int part, int parts,
+                             psim_scene *sc, psim_error *err)
+{
     const psim_model *m = name ? psim_model_find(name) : NULL;
     for (int k = 0; !name && !m && k < NMODELS; k++)   /* the first that has one */
         if (models[k]->generate)
@@ -87,9 +94,20 @@ int psim_generate_scene(const char *name, long n, uint64_t seed, psim_scene *sc,
         return -1;
     }
     psim_scene made = {0};
-    if (m->generate(&made, n, seed, err)) {
+    const long lo = n * part / parts, hi = n * (part + 1) / parts;
+    if (m->generate(&made, n, seed, lo, hi, err)) {
         psim_scene_clear(&made);
         return -1;
+    }
+    if (parts > 1 && !(made.id = malloc((size_t)(hi > lo ? hi - lo : 1) * sizeof *made.id))) {
+        psim_error_set(err, "out of memory for %ld particles", hi - lo);
+        psim_scene_clear(&made);
+        return -1;
+    }
+    if (parts > 1) {
+        made.n_all = n;
+        for (long i = lo; i < hi; i++)
+            made.id[i - lo] = (int32_t)i;
     }
     psim_scene_clear(sc);
     *sc = made;

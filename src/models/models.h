@@ -7,5 +7,10 @@
 const psim_model *psim_model_find(const char *name);
 /* Whether model k runs over MPI ranks (it has a halo). */
 int psim_model_distributed(int k);
+/* psim_generate_scene's part `part` of `parts`: the block of ids
+ * n*part/parts .. n*(part+1)/parts - 1 (a part of a scene, scene.h),
+ * which is the whole scene when parts is 1. */
+int psim_generate_scene_part(const char *name, long n, uint64_t seed, int part, int parts,
+                             psim_scene *sc, psim_error *err);
 
 #endif

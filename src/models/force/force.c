@@ -118,7 +118,7 @@ static int leaves_box(const psim_sim *e, const psim_scene *sc, psim_error *err)
     set_law(&k, e, sc);
     const double min_r = sqrt(k.min_r2);
     const double kick = fabs((1 - k.cutoff / min_r) / k.min_r2 / k.mass) * min_r * k.dt;
-    const double most = (FLAW_MAX_BOUNCES + 4) * k.size, slack = (double)sc->n * kick * k.dt;
+    const double most = (FLAW_MAX_BOUNCES + 4) * k.size, slack = (double)psim_scene_all(sc) * kick * k.dt;
     for (long i = 0; i < sc->n; i++) {
         double v = fmax(fabs(sc->vx[i]), fabs(sc->vy[i])), p = fmax(fabs(sc->x[i]), fabs(sc->y[i]));
         if (!(v * k.dt - slack > most + p))
@@ -128,7 +128,8 @@ static int leaves_box(const psim_sim *e, const psim_scene *sc, psim_error *err)
         psim_error_set(err, "%sdisk %ld moves %g a step (v dt, dt %g): too large for the force "
                             "model in a box of L = %g: past %d box sides its reflections off "
                             "the walls (at most %d a step) cannot bring it back",
-                       at, i, v * k.dt, k.dt, k.size, FLAW_MAX_BOUNCES + 4, FLAW_MAX_BOUNCES);
+                       at, psim_scene_id(sc, i), v * k.dt, k.dt, k.size, FLAW_MAX_BOUNCES + 4,
+                       FLAW_MAX_BOUNCES);
         return -1;
     }
     return 0;
@@ -428,15 +429,15 @@ static int halo(const psim_sim *e, const void *p, psim_halo *h)
 
 /* CS267's initial state: n particles on a shuffled grid in a box of side
  * sqrt(density n), velocities uniform in [-1, 1] (cs267_random.c). */
-static int generate(psim_scene *sc, long n, uint64_t seed, psim_error *err)
+static int generate(psim_scene *sc, long n, uint64_t seed, long lo, long hi, psim_error *err)
 {
-    if (psim_scene_alloc(sc, n, err))
+    if (psim_scene_alloc(sc, hi - lo, err))
         return -1;
     sc->L = sqrt(CS267_DENSITY * (double)n);
     sc->r = CS267_CUTOFF / 2;
     sc->steps = CS267_STEPS;
     sc->format = PSIM_SCENE_CS267;
-    if (psim_cs267_place(n, seed, sc->L, sc->x, sc->y, sc->vx, sc->vy)) {
+    if (psim_cs267_place_part(n, seed, sc->L, lo, hi, sc->x, sc->y, sc->vx, sc->vy)) {
         psim_error_set(err, "out of memory for %ld particles", n);
         return -1;
     }
