@@ -60,7 +60,7 @@ static int load_scene(run_opts *o, psim_scene *sc, psim_error *err)
     } else {
         o->scene_st_ok = stat(o->scene, &o->scene_st) == 0;
         cli_io_begin("reading", o->scene, o->quiet);
-        rc = psim_scene_read(o->scene, sc, err);
+        rc = psim_scene_read_part(o->scene, sc, err);
     }
     cli_io_end();
     return rc;
@@ -93,7 +93,7 @@ static int reload_scene(const run_opts *o, psim_scene *sc)
              st.st_mtim.tv_nsec != o->scene_st.st_mtim.tv_nsec)
         return -1;
     else
-        rc = psim_scene_read(o->scene, sc, &e);
+        rc = psim_scene_read_part(o->scene, sc, &e);
     if (rc == 0)
         psim_scene_substeps(sc, o->substeps);
     return rc;

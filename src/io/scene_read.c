@@ -58,6 +58,11 @@ typedef struct reader {
     size_t cap;          /* chunk's size (block_bytes) */
     size_t max;          /* the longest line taken now (MAX_LINE, or more for
                           * the first: MAX_FIRST_LINE) */
+    int ranged;          /* a byte range of the file alone: left bytes to read */
+    long long left;
+    int head_only;       /* the header alone: no particle arrays */
+    long long mark;      /* where read_mode's line began (bytes read before it) */
+    long mark_line;
 } reader;
 
 /* Zero bytes kept after the data read (a NUL, and 8 bytes that
@@ -94,7 +99,12 @@ static size_t refill(reader *rd)
     memmove(rd->chunk, rd->chunk + rd->pos, rd->end - rd->pos);
     rd->end -= rd->pos;
     rd->pos = 0;
-    size_t got = fread(rd->chunk + rd->end, 1, rd->cap - rd->end, rd->f);
+    size_t want = rd->cap - rd->end;
+    if (rd->ranged && (long long)want > rd->left)
+        want = (size_t)rd->left;
+    size_t got = want ? fread(rd->chunk + rd->end, 1, want, rd->f) : 0;
+    if (rd->ranged)
+        rd->left -= (long long)got;
     rd->end += got;
     memset(rd->chunk + rd->end, 0, PAD);   /* a NUL after the data, and room
                                             * for psim_scan_double_padded */
@@ -306,7 +316,9 @@ static int read_header(reader *rd, psim_scene *sc, psim_error *err)
                        "got %.0f", rd->name, rd->line, PSIM_MAX_STEPS, S);
         return -1;
     }
-    if (psim_scene_alloc(sc, (long)n, err))
+    if (rd->head_only)
+        sc->n = (long)n;
+    else if (psim_scene_alloc(sc, (long)n, err))
         return -1;
     sc->L = L;
     sc->r = r;
@@ -315,19 +327,12 @@ static int read_header(reader *rd, psim_scene *sc, psim_error *err)
     return 0;
 }
 
-static int read_particle(reader *rd, psim_scene *sc, unsigned char *seen,
-                         long k, psim_error *err)
+/* A particle line s (line rd->line): its id, in 0..n-1, its four values
+ * and the restart file's columns rs (NULL: none).  0, or -1 with err set. */
+static int parse_particle(const reader *rd, const psim_restart *rs, long n, const char *s,
+                          long *idp, double v[4], double *extra, psim_error *err)
 {
-    const char *s = next_line(rd);
-    if (!s && rd->failed)
-        return -1;
-    if (!s) {
-        psim_error_set(err, "%s:%ld: unexpected end of file: expected %ld particle "
-                       "lines, found %ld", rd->name, rd->line + 1, sc->n, k);
-        return -1;
-    }
     long id;
-    double v[4];
     static const char *field[4] = {"x", "y", "vx", "vy"};
     if (parse_long(&s, &id)) {
         psim_error_set(err, "%s:%ld: expected a particle line \"i x y vx vy\"",
@@ -346,9 +351,8 @@ static int read_particle(reader *rd, psim_scene *sc, unsigned char *seen,
             return -1;
         }
     }
-    const psim_restart *rs = &sc->restart;
-    double extra[PSIM_RESTART_COLS];
-    for (int c = 0; c < rs->ncols; c++)
+    const int ncols = rs ? rs->ncols : 0;
+    for (int c = 0; c < ncols; c++)
         if (parse_column(rs, c, &s, &extra[c])) {
             char what[256];
             psim_restart_field_error(rs, c, id, s, what, sizeof what);
@@ -357,14 +361,35 @@ static int read_particle(reader *rd, psim_scene *sc, unsigned char *seen,
         }
     if (!only_space(s)) {
         psim_error_set(err, "%s:%ld: particle %ld: unexpected text after %s",
-                       rd->name, rd->line, id, rs->ncols ? rs->colname[rs->ncols - 1] : "vy");
+                       rd->name, rd->line, id, ncols ? rs->colname[ncols - 1] : "vy");
         return -1;
     }
-    if (id < 0 || id >= sc->n) {
+    if (id < 0 || id >= n) {
         psim_error_set(err, "%s:%ld: particle index %ld out of range 0..%ld",
-                       rd->name, rd->line, id, sc->n - 1);
+                       rd->name, rd->line, id, n - 1);
         return -1;
     }
+    *idp = id;
+    return 0;
+}
+
+static int read_particle(reader *rd, psim_scene *sc, unsigned char *seen,
+                         long k, psim_error *err)
+{
+    const char *s = next_line(rd);
+    if (!s && rd->failed)
+        return -1;
+    if (!s) {
+        psim_error_set(err, "%s:%ld: unexpected end of file: expected %ld particle "
+                       "lines, found %ld", rd->name, rd->line + 1, sc->n, k);
+        return -1;
+    }
+    long id;
+    double v[4];
+    const psim_restart *rs = &sc->restart;
+    double extra[PSIM_RESTART_COLS];
+    if (parse_particle(rd, rs, sc->n, s, &id, v, extra, err))
+        return -1;
     /* (an id claimed by a later line of this block in the parallel pass
      * is not seen yet) */
     if (seen[id] && sc->line[id] < rd->line) {
@@ -564,6 +589,7 @@ static int read_particles(reader *rd, psim_scene *sc, unsigned char *seen, long 
  * left for the particle reader (a 2024 scene). */
 static int read_mode(reader *rd, psim_scene *sc)
 {
+    rd->mark = rd->consumed, rd->mark_line = rd->line;
     char *s = next_line(rd);
     if (!s)
         return rd->failed ? -1 : 0;
@@ -734,4 +760,186 @@ void psim_scene_clear(psim_scene *sc)
     sc->source = NULL;
     sc->line = NULL;
     sc->id = NULL;
+}
+
+/* ---- a part of a scene: a byte range of its particle lines --------------- */
+
+int psim_io_scene_read_head(const char *path, psim_restart_schema_fn schema, psim_scene *sc,
+                            psim_scene_span *span, psim_error *err)
+{
+    memset(sc, 0, sizeof *sc);
+    memset(span, 0, sizeof *span);
+    FILE *f = fopen(path, "r");
+    if (!f) {
+        psim_error_set(err, "%s: cannot open: %s", path, strerror(errno));
+        return -1;
+    }
+    reader rd = {.f = f, .name = path, .err = err, .size = -1, .cap = 4 * MAX_FIRST_LINE,
+                 .max = MAX_LINE, .head_only = 1};
+    struct stat st;
+    int rc = -1;
+    if (fstat(fileno(f), &st) || !S_ISREG(st.st_mode)) {
+        psim_error_set(err, "%s: not a regular file: over MPI ranks every rank reads its "
+                            "own part of the scene", path);
+        goto done;
+    }
+    rd.size = span->size = (long long)st.st_size;
+    if (read_restart_line(&rd, sc, schema, err) || read_header(&rd, sc, err) ||
+        (!sc->restart.present && read_mode(&rd, sc)))
+        goto done;
+    if (ferror(f)) {
+        psim_error_set(err, "%s: read error: %s", path, strerror(errno));
+        goto done;
+    }
+    span->whole = sc->restart.present || sc->format == PSIM_SCENE_2019;
+    /* the particle lines start with the line read_mode looked at */
+    span->data = rd.pushed ? rd.mark : rd.consumed;
+    span->line0 = rd.pushed ? rd.mark_line : rd.line;
+    if (!(sc->source = strdup(path))) {
+        psim_error_set(err, "%s: out of memory", path);
+        goto done;
+    }
+    rc = 0;
+done:
+    free(rd.buf);
+    free(rd.chunk);
+    fclose(f);
+    if (rc)
+        psim_scene_clear(sc);
+    return rc;
+}
+
+/* path opened at byte off; NULL with err set. */
+static FILE *open_at(const char *path, long long off, psim_error *err)
+{
+    FILE *f = fopen(path, "r");
+    if (f && fseeko(f, (off_t)off, SEEK_SET) == 0)
+        return f;
+    psim_error_set(err, "%s: cannot read: %s", path, strerror(errno));
+    if (f)
+        fclose(f);
+    return NULL;
+}
+
+int psim_io_line_start(const char *path, long long data, long long off, long long *start,
+                       psim_error *err)
+{
+    if (off <= data) {
+        *start = data;
+        return 0;
+    }
+    FILE *f = open_at(path, off - 1, err);
+    if (!f)
+        return -1;
+    int c;
+    long long at = off - 1;
+    while ((c = getc(f)) != EOF && c != '\n')
+        at++;
+    int bad = ferror(f);
+    fclose(f);
+    if (bad) {
+        psim_error_set(err, "%s: read error: %s", path, strerror(errno));
+        return -1;
+    }
+    *start = at + 1;   /* after the newline, or the end of the file */
+    return 0;
+}
+
+int psim_io_count_lines(const char *path, long long a, long long b, long *lines,
+                        psim_error *err)
+{
+    *lines = 0;
+    if (a >= b)
+        return 0;
+    FILE *f = open_at(path, a, err);
+    if (!f)
+        return -1;
+    size_t cap = (size_t)1 << 20;
+    char *buf = malloc(cap);
+    long long left = b - a;
+    int rc = buf ? 0 : -1;
+    while (rc == 0 && left > 0) {
+        size_t want = (long long)cap < left ? cap : (size_t)left;
+        size_t got = fread(buf, 1, want, f);
+        for (const char *p = buf, *q; (q = memchr(p, '\n', (size_t)(buf + got - p)));
+             p = q + 1)
+            ++*lines;
+        left -= (long long)got;
+        if (got < want)
+            rc = -1;
+    }
+    if (rc)
+        psim_error_set(err, buf ? "%s: read error: %s" : "%s: out of memory%s", path,
+                       buf ? strerror(errno) : "");
+    free(buf);
+    fclose(f);
+    return rc;
+}
+
+/* One more particle in a part (its arrays grown as needed). */
+static int part_add(psim_scene *sc, size_t *cap, long id, const double v[4], long line)
+{
+    if ((size_t)sc->n == *cap) {
+        size_t c = *cap ? *cap * 2 : 4096;
+        double *x = realloc(sc->x, c * sizeof *x);
+        sc->x = x ? x : sc->x;
+        double *y = realloc(sc->y, c * sizeof *y);
+        sc->y = y ? y : sc->y;
+        double *vx = realloc(sc->vx, c * sizeof *vx);
+        sc->vx = vx ? vx : sc->vx;
+        double *vy = realloc(sc->vy, c * sizeof *vy);
+        sc->vy = vy ? vy : sc->vy;
+        int32_t *ids = realloc(sc->id, c * sizeof *ids);
+        sc->id = ids ? ids : sc->id;
+        long *ln = realloc(sc->line, c * sizeof *ln);
+        sc->line = ln ? ln : sc->line;
+        if (!x || !y || !vx || !vy || !ids || !ln)
+            return -1;
+        *cap = c;
+    }
+    size_t i = (size_t)sc->n++;
+    sc->x[i] = v[0], sc->y[i] = v[1], sc->vx[i] = v[2], sc->vy[i] = v[3];
+    sc->id[i] = (int32_t)id;
+    sc->line[i] = line;
+    return 0;
+}
+
+int psim_io_scene_read_range(const char *path, psim_scene *sc, long long a, long long b,
+                             long line0, psim_range_read *out, psim_error *err)
+{
+    memset(out, 0, sizeof *out);
+    const long n_all = sc->n_all;
+    sc->n = 0;
+    if (a >= b)
+        return 0;
+    FILE *f = open_at(path, a, err);
+    if (!f) {
+        out->bad = PSIM_RANGE_READ_ERROR;
+        return -1;
+    }
+    reader rd = {.f = f, .name = path, .err = err, .size = -1, .cap = block_bytes,
+                 .max = MAX_LINE, .ranged = 1, .left = b - a, .line = line0};
+    size_t cap = 0;
+    int rc = 0;
+    for (const char *s; rc == 0 && (s = next_line(&rd));) {
+        long id;
+        double v[4];
+        if (parse_particle(&rd, NULL, n_all, s, &id, v, NULL, err)) {
+            out->bad = PSIM_RANGE_NOT_PARTICLE, out->line = rd.line, rc = -1;
+        } else if (part_add(sc, &cap, id, v, rd.line)) {
+            psim_error_set(err, "%s: out of memory for %ld particles", path, sc->n);
+            out->bad = PSIM_RANGE_READ_ERROR, rc = -1;
+        }
+    }
+    if (rc == 0 && rd.failed)   /* a line no scene has (read_line said) */
+        out->bad = PSIM_RANGE_NOT_TEXT, out->line = rd.line + 1, rc = -1;
+    if (rc == 0 && ferror(f)) {
+        psim_error_set(err, "%s: read error: %s", path, strerror(errno));
+        out->bad = PSIM_RANGE_READ_ERROR, rc = -1;
+    }
+    out->lines = rd.line - line0;
+    free(rd.buf);
+    free(rd.chunk);
+    fclose(f);
+    return rc;
 }

@@ -4,6 +4,7 @@
  * measures and its options. */
 #include "models.h"
 #include "../io/scene_read.h"
+#include "../engine/dist.h"
 
 static int options_ok(const void *ctx, const char *text, psim_error *err)
 {
@@ -23,6 +24,13 @@ static int schema_of(const char *name, psim_restart_schema *out)
 int psim_scene_read(const char *path, psim_scene *sc, psim_error *err)
 {
     return psim_io_scene_read(path, schema_of, sc, err);
+}
+
+int psim_scene_read_part(const char *path, psim_scene *sc, psim_error *err)
+{
+    if (psim_dist_ranks() < 2)
+        return psim_scene_read(path, sc, err);
+    return psim_dist_scene_read(path, schema_of, sc, err);
 }
 
 int psim_scene_read_stream(FILE *f, const char *name, psim_scene *sc, psim_error *err)
