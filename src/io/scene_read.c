@@ -769,6 +769,12 @@ int psim_io_scene_read_head(const char *path, psim_restart_schema_fn schema, psi
 {
     memset(sc, 0, sizeof *sc);
     memset(span, 0, sizeof *span);
+    struct stat st;
+    if (stat(path, &st) == 0 && !S_ISREG(st.st_mode)) {   /* (not opened: a FIFO would wait) */
+        psim_error_set(err, "%s: not a regular file: over MPI ranks every rank reads its "
+                            "own part of the scene", path);
+        return -1;
+    }
     FILE *f = fopen(path, "r");
     if (!f) {
         psim_error_set(err, "%s: cannot open: %s", path, strerror(errno));
@@ -776,7 +782,6 @@ int psim_io_scene_read_head(const char *path, psim_restart_schema_fn schema, psi
     }
     reader rd = {.f = f, .name = path, .err = err, .size = -1, .cap = 4 * MAX_FIRST_LINE,
                  .max = MAX_LINE, .head_only = 1};
-    struct stat st;
     int rc = -1;
     if (fstat(fileno(f), &st) || !S_ISREG(st.st_mode)) {
         psim_error_set(err, "%s: not a regular file: over MPI ranks every rank reads its "
