@@ -81,10 +81,12 @@ int psim_dist_scene_read(const char *path, psim_restart_schema_fn schema, psim_s
                          psim_error *err);
 
 /* Engine side (engine.c). */
-/* Set up the run over ranks: keep this rank's share of sc's particles (a
- * block of ids; the first exchange sends them to their owners).  0, or
- * -1 with err set (a model that cannot run over ranks, too many ranks). */
-int psim_dist_attach(struct psim_sim *e, const psim_scene *sc, psim_error *err);
+/* Set up the run over ranks: the domains cut where sc's particles are,
+ * and this rank's own particles kept: of a whole scene those in its
+ * domain, of a part (scene.h) those every rank's part sends it.  take:
+ * sc's particle arrays may be freed once copied.  0, or -1 with err set
+ * (a model that cannot run over ranks). */
+int psim_dist_attach(struct psim_sim *e, psim_scene *sc, int take, psim_error *err);
 void psim_dist_detach(struct psim_sim *e);
 /* Once the model is made: its halo, held to the domains' size.  0, or -1
  * with err set (more ranks than the box can be cut into). */

@@ -126,7 +126,7 @@ static long repeated(const psim_scene *sc, long n, psim_error *err)
 
 /* This rank's byte range of the particle lines, and its first line. */
 static int my_range(const char *path, const psim_scene_span *sp, long long *a, long long *b,
-                    long *line0, psim_error *err)
+                    long *line0, long *lines, psim_error *err)
 {
     const int R = psim_dist_ranks(), q = psim_dist_rank();
     const long long bytes = sp->size - sp->data;
@@ -144,6 +144,7 @@ static int my_range(const char *path, const psim_scene_span *sp, long long *a, l
     long before = 0;
     MPI_Exscan(&nl, &before, 1, MPI_LONG, MPI_SUM, MPI_COMM_WORLD);
     *line0 = sp->line0 + (q ? before : 0);
+    *lines = nl;
     return 0;
 }
 
@@ -202,17 +203,17 @@ int psim_dist_scene_read(const char *path, psim_restart_schema_fn schema, psim_s
     const long n = sc->n;
     const int R = psim_dist_ranks();
     long long a, b;
-    long line0;
-    if (my_range(path, &sp, &a, &b, &line0, err)) {
+    long line0, lines;
+    if (my_range(path, &sp, &a, &b, &line0, &lines, err)) {
         psim_scene_clear(sc);
         return -1;
     }
     sc->n_all = n;
     psim_range_read rr;
     psim_error mine = {{0}, 0};
-    psim_io_scene_read_range(path, sc, a, b, line0, &rr, &mine);
-    if (!sc->id && !(sc->id = malloc(sizeof *sc->id))) {   /* a part, if an empty one */
-        fprintf(stderr, "psim: rank %d: out of memory for the scene\n", psim_dist_rank());
+    psim_io_scene_read_range(path, sc, a, b, line0, lines, &rr, &mine);
+    if (!sc->id) {   /* (no memory for its arrays) */
+        fprintf(stderr, "psim: rank %d: %s\n", psim_dist_rank(), mine.msg);
         psim_dist_abort(1);
     }
     seen s = {sc->n, rr.bad ? rr.line : 0, rr.lines, rr.bad}, *all = malloc((size_t)R * sizeof *all);

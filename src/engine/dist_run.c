@@ -436,7 +436,7 @@ static int own_store(psim_sim *e, size_t own, psim_error *err)
 /* A part of a scene on each rank (scene.h): the domains cut from every
  * rank's part together, and each particle sent to its owner, so that no
  * rank holds more than its part and its own particles. */
-static int keep_part(psim_sim *e, const psim_scene *sc, psim_error *err)
+static int keep_part(psim_sim *e, psim_scene *sc, int take, psim_error *err)
 {
     psim_dist *d = e->dist;
     const size_t n = (size_t)sc->n;
@@ -458,6 +458,10 @@ static int keep_part(psim_sim *e, const psim_scene *sc, psim_error *err)
         o[0] = sc->id[i], o[1] = sc->x[i], o[2] = sc->y[i], o[3] = sc->vx[i], o[4] = sc->vy[i];
     }
     free(at), free(dest);
+    if (take) {   /* packed: the part's copy goes first */
+        free(sc->x), free(sc->y), free(sc->vx), free(sc->vy);
+        sc->x = sc->y = sc->vx = sc->vy = NULL;
+    }
     double *rbuf = malloc((own ? own : 1) * REC * sizeof *rbuf);
     if (!rbuf)
         out_of_memory("the scene");
@@ -470,7 +474,7 @@ static int keep_part(psim_sim *e, const psim_scene *sc, psim_error *err)
     return rc;
 }
 
-int psim_dist_attach(psim_sim *e, const psim_scene *sc, psim_error *err)
+int psim_dist_attach(psim_sim *e, psim_scene *sc, int take, psim_error *err)
 {
     const psim_model *m = e->model;
     if (!m->halo) {
@@ -499,7 +503,7 @@ int psim_dist_attach(psim_sim *e, const psim_scene *sc, psim_error *err)
     d->comm_phase = e->stats.nphases;
     e->stats.phase_name[e->stats.nphases++] = "comm";
     if (sc->id)
-        return keep_part(e, sc, err);
+        return keep_part(e, sc, take, err);
     /* every rank holds the whole scene here: each cuts the domains from it
      * alike and keeps its own particles (a little room for the ghosts) */
     cut(d, sc->L, sc->x, sc->y, (size_t)sc->n, 0);
@@ -816,9 +820,9 @@ int psim_engine_ghost(const psim_sim *e, size_t place)
 
 #else /* without MPI no run has ranks: never called */
 
-int psim_dist_attach(psim_sim *e, const psim_scene *sc, psim_error *err)
+int psim_dist_attach(psim_sim *e, psim_scene *sc, int take, psim_error *err)
 {
-    (void)e, (void)sc;
+    (void)take, (void)e, (void)sc;
     psim_error_set(err, "built without MPI");
     return -1;
 }

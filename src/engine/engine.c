@@ -366,7 +366,7 @@ psim_sim *psim_engine_create(psim_scene *sc, const psim_config *cfg,
             err->usage = 1;
             goto fail;
         }
-        if (psim_dist_attach(e, sc, err))
+        if (psim_dist_attach(e, sc, take, err))
             goto fail;
     } else if (sc->id) {   /* (scene.h: each rank's part) */
         psim_error_set(err, "a part of a scene runs over MPI ranks only");

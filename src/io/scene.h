@@ -79,7 +79,7 @@ static inline long psim_scene_id(const psim_scene *sc, long i) { return sc->id ?
 int psim_scene_alloc(psim_scene *sc, long n, psim_error *err);
 /* Free what a scene held by value holds (its arrays, source, line
  * numbers and restart data); its numbers (n, L, r, steps, format, print)
- * stay.  psim_scene_free is this, then the handle's own memory. */
+ * stay, a part's n becoming its whole scene's.  psim_scene_free is this, then the handle's own memory. */
 void psim_scene_clear(psim_scene *sc);
 /* "FILE:LINE: " of particle i into buf (an error message's prefix), or ""
  * for a scene that was made, not read. */

@@ -422,6 +422,8 @@ typedef struct block_job {
     psim_scene *sc;
     unsigned char *seen;
     const char *lim;   /* the end of the data read (NUL there) */
+    long part_line0;   /* a part (sc->id): each line at its place in the range,
+                        * line - part_line0 - 1 (parts.c compacts them) */
 } block_job;
 
 /* Parse the lines of [p, b), the first being line line0 + 1: store every
@@ -471,6 +473,15 @@ static int parse_piece(const block_job *j, const char *p, const char *b, long li
         if (!(*p == '\n' || p == lim) || (size_t)(p - start) > MAX_LINE)
             return -1;
         p += p < lim;
+        if (sc->id) {   /* a part: ids seen twice are looked for later */
+            if (id >= (uint64_t)sc->n_all)
+                return -1;
+            size_t at = (size_t)(line - j->part_line0 - 1);
+            sc->x[at] = v[0], sc->y[at] = v[1], sc->vx[at] = v[2], sc->vy[at] = v[3];
+            sc->id[at] = (int32_t)id, sc->line[at] = line;
+            c++;
+            continue;
+        }
         if (id >= (uint64_t)sc->n || __atomic_exchange_n(&j->seen[id], 1, __ATOMIC_RELAXED))
             return -1;   /* out of range, or a duplicate */
         sc->x[id] = v[0];
@@ -547,7 +558,7 @@ static int read_particles(reader *rd, psim_scene *sc, unsigned char *seen, long 
                           psim_error *err)
 {
     const int fast = !psim_io_slow();
-    block_job j = {sc, seen, NULL};
+    block_job j = {sc, seen, NULL, 0};
     while (*k < sc->n) {
         if (fast && !rd->pushed) {
             if (!rd->eof && rd->end - rd->pos < rd->cap / 2)
@@ -748,6 +759,8 @@ void psim_scene_where_header(const psim_scene *sc, int k, char *buf, size_t size
 
 void psim_scene_clear(psim_scene *sc)
 {
+    if (sc->id)   /* a part's numbers become its whole scene's */
+        sc->n = sc->n_all;
     free(sc->x);
     free(sc->y);
     free(sc->vx);
@@ -881,40 +894,45 @@ int psim_io_count_lines(const char *path, long long a, long long b, long *lines,
     return rc;
 }
 
-/* One more particle in a part (its arrays grown as needed). */
-static int part_add(psim_scene *sc, size_t *cap, long id, const double v[4], long line)
+/* The part's arrays for `lines` lines, a place for each (id -1: none). */
+static int part_alloc(psim_scene *sc, long lines)
 {
-    if ((size_t)sc->n == *cap) {
-        size_t c = *cap ? *cap * 2 : 4096;
-        double *x = realloc(sc->x, c * sizeof *x);
-        sc->x = x ? x : sc->x;
-        double *y = realloc(sc->y, c * sizeof *y);
-        sc->y = y ? y : sc->y;
-        double *vx = realloc(sc->vx, c * sizeof *vx);
-        sc->vx = vx ? vx : sc->vx;
-        double *vy = realloc(sc->vy, c * sizeof *vy);
-        sc->vy = vy ? vy : sc->vy;
-        int32_t *ids = realloc(sc->id, c * sizeof *ids);
-        sc->id = ids ? ids : sc->id;
-        long *ln = realloc(sc->line, c * sizeof *ln);
-        sc->line = ln ? ln : sc->line;
-        if (!x || !y || !vx || !vy || !ids || !ln)
-            return -1;
-        *cap = c;
-    }
-    size_t i = (size_t)sc->n++;
-    sc->x[i] = v[0], sc->y[i] = v[1], sc->vx[i] = v[2], sc->vy[i] = v[3];
-    sc->id[i] = (int32_t)id;
-    sc->line[i] = line;
+    size_t c = (size_t)(lines > 0 ? lines : 1);
+    sc->x = malloc(c * sizeof *sc->x), sc->y = malloc(c * sizeof *sc->y);
+    sc->vx = malloc(c * sizeof *sc->vx), sc->vy = malloc(c * sizeof *sc->vy);
+    sc->id = malloc(c * sizeof *sc->id), sc->line = malloc(c * sizeof *sc->line);
+    if (!sc->x || !sc->y || !sc->vx || !sc->vy || !sc->id || !sc->line)
+        return -1;
+    for (size_t i = 0; i < c; i++)
+        sc->id[i] = -1;
     return 0;
 }
 
+/* The part's particles moved to its first places, in the file's order. */
+static void part_compact(psim_scene *sc, long places)
+{
+    long k = 0;
+    for (long i = 0; i < places; i++) {
+        if (sc->id[i] < 0)
+            continue;
+        sc->x[k] = sc->x[i], sc->y[k] = sc->y[i], sc->vx[k] = sc->vx[i], sc->vy[k] = sc->vy[i];
+        sc->id[k] = sc->id[i], sc->line[k] = sc->line[i];
+        k++;
+    }
+    sc->n = k;
+}
+
 int psim_io_scene_read_range(const char *path, psim_scene *sc, long long a, long long b,
-                             long line0, psim_range_read *out, psim_error *err)
+                             long line0, long lines, psim_range_read *out, psim_error *err)
 {
     memset(out, 0, sizeof *out);
-    const long n_all = sc->n_all;
     sc->n = 0;
+    const long places = lines + 1;   /* (a last line without its newline) */
+    if (part_alloc(sc, places)) {
+        psim_error_set(err, "%s: out of memory for %ld particles", path, places);
+        out->bad = PSIM_RANGE_READ_ERROR;
+        return -1;
+    }
     if (a >= b)
         return 0;
     FILE *f = open_at(path, a, err);
@@ -924,27 +942,69 @@ int psim_io_scene_read_range(const char *path, psim_scene *sc, long long a, long
     }
     reader rd = {.f = f, .name = path, .err = err, .size = -1, .cap = block_bytes,
                  .max = MAX_LINE, .ranged = 1, .left = b - a, .line = line0};
-    size_t cap = 0;
-    int rc = 0;
-    for (const char *s; rc == 0 && (s = next_line(&rd));) {
-        long id;
-        double v[4];
-        if (parse_particle(&rd, NULL, n_all, s, &id, v, NULL, err)) {
-            out->bad = PSIM_RANGE_NOT_PARTICLE, out->line = rd.line, rc = -1;
-        } else if (part_add(sc, &cap, id, v, rd.line)) {
-            psim_error_set(err, "%s: out of memory for %ld particles", path, sc->n);
-            out->bad = PSIM_RANGE_READ_ERROR, rc = -1;
-        }
+    rd.buf = malloc(MAX_FIRST_LINE + 1);
+    rd.chunk = malloc(rd.cap + PAD);
+    if (!rd.buf || !rd.chunk) {
+        psim_error_set(err, "%s: out of memory", path);
+        out->bad = PSIM_RANGE_READ_ERROR;
+        free(rd.buf), free(rd.chunk);
+        fclose(f);
+        return -1;
     }
-    if (rc == 0 && rd.failed)   /* a line no scene has (read_line said) */
-        out->bad = PSIM_RANGE_NOT_TEXT, out->line = rd.line + 1, rc = -1;
-    if (rc == 0 && ferror(f)) {
+    block_job j = {sc, NULL, NULL, line0};
+    const int fast = !psim_io_slow();
+    int rc = 0;
+    while (rc == 0) {
+        long long stop = -1;   /* the line by line reader: up to here (-1: one line) */
+        if (fast && !rd.pushed) {
+            if (!rd.eof && rd.end - rd.pos < rd.cap / 2)
+                refill(&rd);
+            const char *base = rd.chunk + rd.pos, *lim = rd.chunk + rd.end;
+            const char *cut = rd.eof ? lim : memrchr(base, '\n', (size_t)(lim - base));
+            if (cut && !rd.eof)
+                cut++;
+            if (cut && cut > base) {
+                long nl = 0, count = 0;
+                j.lim = lim;
+                if (parse_block(&rd, &j, base, cut, &nl, &count) == 0) {
+                    rd.pos += (size_t)(cut - base);
+                    rd.consumed += cut - base;
+                    rd.line += nl;
+                    continue;
+                }
+                stop = rd.consumed + (cut - base);
+            }
+        }
+        do {
+            const char *s = next_line(&rd);
+            if (!s) {
+                if (rd.failed)   /* a line no scene has (read_line said) */
+                    out->bad = PSIM_RANGE_NOT_TEXT, out->line = rd.line + 1, rc = -1;
+                else
+                    rc = 1;   /* the range's end */
+                break;
+            }
+            long id;
+            double v[4];
+            if (parse_particle(&rd, NULL, sc->n_all, s, &id, v, NULL, err)) {
+                out->bad = PSIM_RANGE_NOT_PARTICLE, out->line = rd.line, rc = -1;
+                break;
+            }
+            size_t at = (size_t)(rd.line - line0 - 1);
+            sc->x[at] = v[0], sc->y[at] = v[1], sc->vx[at] = v[2], sc->vy[at] = v[3];
+            sc->id[at] = (int32_t)id, sc->line[at] = rd.line;
+        } while (rd.consumed < stop);
+    }
+    if (rc >= 0 && ferror(f)) {
         psim_error_set(err, "%s: read error: %s", path, strerror(errno));
         out->bad = PSIM_RANGE_READ_ERROR, rc = -1;
     }
+    /* the particles before the bad line (those after it, read in its
+     * block, dropped) */
+    part_compact(sc, rc < 0 && out->line ? out->line - line0 - 1 : rd.line - line0);
     out->lines = rd.line - line0;
     free(rd.buf);
     free(rd.chunk);
     fclose(f);
-    return rc;
+    return rc < 0 ? -1 : 0;
 }

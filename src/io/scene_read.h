@@ -34,10 +34,10 @@ int psim_io_line_start(const char *path, long long data, long long off, long lon
 /* The newlines in bytes [a, b). */
 int psim_io_count_lines(const char *path, long long a, long long b, long *lines,
                         psim_error *err);
-/* The particle lines of bytes [a, b) (whole lines, the first being line
- * line0 + 1) into the part sc (n_all set: ids in 0..n_all-1), in the
- * file's order, each with its id and line; duplicates are not looked for
- * (a part cannot see them).  Stops at the first line that is not a
+/* The particle lines of bytes [a, b) (whole lines, `lines` newlines, the
+ * first being line line0 + 1) into the part sc (n_all set: ids in
+ * 0..n_all-1; its arrays allocated here), in the file's order, each with
+ * its id and line; duplicates are not looked for (a part cannot see them).  Stops at the first line that is not a
  * particle line: -1 with err set and out->bad saying what it is; out->lines:
  * the lines read. */
 enum { PSIM_RANGE_NOT_PARTICLE = 1, PSIM_RANGE_NOT_TEXT, PSIM_RANGE_READ_ERROR };
@@ -47,7 +47,7 @@ typedef struct psim_range_read {
     long lines;
 } psim_range_read;
 int psim_io_scene_read_range(const char *path, psim_scene *sc, long long a, long long b,
-                             long line0, psim_range_read *out, psim_error *err);
+                             long line0, long lines, psim_range_read *out, psim_error *err);
 
 /* Tests: the scene reader's block size and smallest piece per thread
  * (0: the defaults, 8 MiB and 64 KiB). */

@@ -47,6 +47,17 @@ for f in ok blank crlf nonl none two; do
     echo "ok: $f.in read in parts writes the bytes of one process"
 done
 
+# the summary's scene line: the whole scene's disks and density
+for src in "$tmp/ok.in" "-n 3000 -s 2"; do
+    # shellcheck disable=SC2086 # (the words of src)
+    one=$("$PSIM" --model force $src --threads 1 --steps 2 2>&1 | grep '^psim ')
+    # shellcheck disable=SC2086
+    many=$(mpirun -q --oversubscribe -np 3 "$PSIM" --model force $src --steps 2 2>&1 |
+        grep '^psim ')
+    [[ -n $one && $one == "$many" ]] || fail "3 ranks: '$many', one process: '$one'"
+done
+echo "ok: the summary names the whole scene on 3 ranks"
+
 check_bad() {   # check_bad FILE SUBSTRING LINE
     expect_fail --rc 1 "$2" "$PSIM" --model force "$tmp/$1" --threads 1 -q -o "$tmp/out.txt"
     local one=$FAIL_LINE

@@ -3,6 +3,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include <omp.h>
 
@@ -133,7 +134,66 @@ static int same_scene(const psim_scene *a, const psim_scene *b)
            memcmp(a->line, b->line, (size_t)a->n * sizeof(long)) == 0;
 }
 
-static long both_ways_runs;
+static long both_ways_runs, parts_runs;
+
+/* A scene read whole (ref), read again as k parts of its file's particle
+ * lines (src/io's part reader, as the ranks of an MPI run read it): every
+ * particle of a part is the whole scene's, with its line, in the file's
+ * order, and the parts hold them all. */
+static void same_in_parts(const char *text, size_t len, const psim_scene *ref, const char *what)
+{
+    if (len && text[0] == '#')   /* a restart file is read whole */
+        return;
+    char path[] = "/tmp/psim-parts-XXXXXX";
+    int fd = mkstemp(path);
+    CHECK(fd >= 0);
+    FILE *f = fdopen(fd, "w");
+    CHECK(fwrite(text, 1, len, f) == len);
+    fclose(f);
+    psim_scene head = {0};
+    psim_scene_span sp;
+    psim_error err = {{0}, 0};
+    CHECK_MSG(psim_io_scene_read_head(path, NULL, &head, &sp, &err) == 0, "%s: %s", what, err.msg);
+    if (sp.whole) {   /* a 2019 scene */
+        psim_scene_clear(&head);
+        unlink(path);
+        return;
+    }
+    CHECK(head.n == ref->n && head.L == ref->L && head.r == ref->r);
+    for (int k = 1; k <= 5; k += 2) {
+        long got = 0, line0 = sp.line0;
+        long long a = sp.data;
+        for (int q = 0; q < k; q++) {
+            long long b = sp.size;
+            if (q + 1 < k)
+                CHECK(psim_io_line_start(path, sp.data,
+                                         sp.data + (sp.size - sp.data) * (q + 1) / k, &b, &err) == 0);
+            long nl;
+            CHECK(psim_io_count_lines(path, a, b, &nl, &err) == 0);
+            psim_scene part = {0};
+            part.n_all = head.n;
+            psim_range_read rr;
+            int rc = psim_io_scene_read_range(path, &part, a, b, line0, nl, &rr, &err);
+            CHECK_MSG(rc == 0, "%s: part %d of %d: %s", what, q, k, err.msg);
+            for (long i = 0; i < part.n; i++) {
+                long id = part.id[i];
+                CHECK_MSG(part.x[i] == ref->x[id] && part.y[i] == ref->y[id] &&
+                              part.vx[i] == ref->vx[id] && part.vy[i] == ref->vy[id] &&
+                              part.line[i] == ref->line[id],
+                          "%s: part %d of %d: particle %ld", what, q, k, id);
+                CHECK(i == 0 || part.line[i] > part.line[i - 1]);
+            }
+            got += part.n;
+            line0 += rr.lines;
+            a = b;
+            psim_scene_clear(&part);
+            parts_runs++;
+        }
+        CHECK_MSG(got == ref->n, "%s: %d parts hold %ld of %ld particles", what, k, got, ref->n);
+    }
+    psim_scene_clear(&head);
+    unlink(path);
+}
 
 /* The same scene, or the same error message, from the block reader (blocks
  * of 16 kB and more, pieces from 512 bytes, 1 to 3 threads) as from the
@@ -166,6 +226,11 @@ static void same_both_ways(const char *text, size_t len, const char *what)
             } else if (r == 0) {
                 psim_scene_clear(&sc);
             }
+        }
+    if (rref == 0)
+        for (size_t b = 0; b < sizeof blocks / sizeof blocks[0]; b++) {
+            psim_io_set_blocks(blocks[b][0], blocks[b][1]);
+            same_in_parts(text, len, &ref, what);
         }
     psim_io_set_blocks(0, 0);
     omp_set_num_threads(2);
@@ -378,5 +443,7 @@ int main(void)
     test_block_reader();
     test_restart_columns();
     printf("%ld reads compared with the line-by-line reader\n", both_ways_runs);
+    printf("%ld scene parts compared with whole scenes\n", parts_runs);
+    CHECK(parts_runs > 0);
     return check_done();
 }
