@@ -75,7 +75,8 @@ _Noreturn void psim_dist_abort(int code);
 /* Collective: the scene file path read in parts, each rank its own
  * byte range of the particle lines (dist_read.c): sc becomes this rank's
  * part of it (scene.h), which psim_dist_attach sends to the particles'
- * owners.  A restart file or a 2019 scene is read whole by every rank.
+ * owners.  A restart file with a model's own columns or a 2019 scene is
+ * read whole by every rank.
  * 0, or -1 with err set on the rank that says why (emptied elsewhere). */
 int psim_dist_scene_read(const char *path, psim_restart_schema_fn schema, psim_scene *sc,
                          psim_error *err);

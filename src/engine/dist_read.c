@@ -196,7 +196,7 @@ int psim_dist_scene_read(const char *path, psim_restart_schema_fn schema, psim_s
     psim_scene_span sp;
     if (psim_io_scene_read_head(path, schema, sc, &sp, err))   /* alike on every rank */
         return -1;
-    if (sp.whole) {   /* a restart file, a 2019 scene: every rank reads it whole */
+    if (sp.whole) {   /* every rank reads it whole (scene_read.h) */
         psim_scene_clear(sc);
         return psim_io_scene_read(path, schema, sc, err);
     }

@@ -809,7 +809,10 @@ int psim_io_scene_read_head(const char *path, psim_restart_schema_fn schema, psi
         psim_error_set(err, "%s: read error: %s", path, strerror(errno));
         goto done;
     }
-    span->whole = sc->restart.present || sc->format == PSIM_SCENE_2019;
+    /* (a restart file without a model's own columns is particle lines as
+     * any scene's; the order of its lines is not kept in parts) */
+    span->whole = (sc->restart.present && sc->restart.ncols > 0) ||
+                  sc->format == PSIM_SCENE_2019;
     /* the particle lines start with the line read_mode looked at */
     span->data = rd.pushed ? rd.mark : rd.consumed;
     span->line0 = rd.pushed ? rd.mark_line : rd.line;

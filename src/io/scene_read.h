@@ -18,7 +18,8 @@ int psim_io_scene_read_stream(FILE *f, const char *name, psim_restart_schema_fn 
  * psim_io_scene_read_head reads the header alone into sc (N, L, r, S,
  * their lines, the format, the source; no particle arrays) and where the
  * particle lines start: byte `data`, after line line0; `whole` for a
- * scene that is read whole (a restart file, a 2019 scene).  Refuses a
+ * scene that is read whole (a restart file with a model's own columns, a
+ * 2019 scene).  Refuses a
  * file that is not a regular one.  0, or -1 with err set. */
 typedef struct psim_scene_span {
     long long data, size;
