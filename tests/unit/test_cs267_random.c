@@ -179,6 +179,20 @@ static void test_place(void)
             dup++;
     }
     CHECK(dup == 0);
+    /* a block of ids alone (each MPI rank's): the whole run's particles */
+    static const long cuts[][2] = {{0, 1}, {0, 333}, {333, 334}, {500, 1000}, {999, 1000},
+                                   {400, 400}};
+    for (size_t c = 0; c < sizeof cuts / sizeof cuts[0]; c++) {
+        long lo = cuts[c][0], hi = cuts[c][1];
+        static double bx[N], by[N], bvx[N], bvy[N];
+        CHECK(psim_cs267_place_part(N, 5, s, lo, hi, bx, by, bvx, bvy) == 0);
+        size_t b = (size_t)(hi - lo) * sizeof(double);
+        CHECK_MSG(memcmp(bx, px + lo, b) == 0 && memcmp(by, py + lo, b) == 0 &&
+                      memcmp(bvx, pvx + lo, b) == 0 && memcmp(bvy, pvy + lo, b) == 0,
+                  "block %ld..%ld", lo, hi);
+    }
+    CHECK(psim_cs267_place_part(N, 5, s, 10, 5, x, y, vx, vy) == -1);
+    CHECK(psim_cs267_place_part(N, 5, s, 0, N + 1, px, py, pvx, pvy) == -1);
     /* n = 0 places nothing; n outside the course's int is refused */
     CHECK(psim_cs267_place(0, 1, 0.0, NULL, NULL, NULL, NULL) == 0);
     CHECK(psim_cs267_place(-1, 1, 1.0, x, y, vx, vy) == -1);
