@@ -57,7 +57,7 @@ run() {
 
 median() { sort -g | awk '{a[NR]=$1} END {print a[int((NR + 1) / 2)]}'; }
 
-for rep in $(seq "$reps"); do
+for _ in $(seq "$reps"); do
     for r in $ranks; do
         run "$r" >>"$tmp/plain.$r"
         run "$r" --final "$tmp/final.txt" >>"$tmp/final.$r"
