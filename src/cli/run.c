@@ -1,5 +1,6 @@
 /* psim [OPTIONS] [SCENE [THREADS]]: run a scene. */
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <signal.h>
 #include <stdlib.h>
@@ -7,6 +8,7 @@
 
 #include <omp.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "affinity.h"
 #include "cli.h"
@@ -515,6 +517,25 @@ static int ranks_stopped(int ran, const psim_sim *s, psim_error *err)
     return -2;
 }
 
+/* parse_run; over MPI ranks, whose command lines are the same, what it
+ * prints (a usage error, --help, --version) comes from rank 0 alone. */
+static int ranks_parse(int argc, char **argv, run_opts *o)
+{
+    if (psim_dist_rank() == 0)
+        return parse_run(argc, argv, o);
+    fflush(stdout), fflush(stderr);
+    int out = dup(1), err = dup(2), nul = open("/dev/null", O_WRONLY);
+    if (nul >= 0)
+        dup2(nul, 1), dup2(nul, 2), close(nul);
+    int rc = parse_run(argc, argv, o);
+    fflush(stdout), fflush(stderr);
+    if (out >= 0)
+        dup2(out, 1), close(out);
+    if (err >= 0)
+        dup2(err, 2), close(err);
+    return rc;
+}
+
 /* What a run over ranks cannot do yet: 0, or 2 after saying so (rank 0). */
 static int ranks_refuse(const run_opts *o)
 {
@@ -592,7 +613,7 @@ int cli_run(int argc, char **argv)
     run_opts o;
     cli_start start;
     cli_start_note(&start);
-    int rc = parse_run(argc, argv, &o);
+    int rc = ranks_parse(argc, argv, &o);
     if (rc) {
         free(o.options);
         return rc < 0 ? 0 : rc;   /* -1: --help or --version, done */

@@ -32,3 +32,15 @@ for r in 2 3 4; do
 done
 compgen -G "$tmp/.psim-*" >/dev/null && fail "a temporary file was left"
 echo "ok: a failure on every rank at once is said once"
+
+# the command line's faults, and --help, come from rank 0 alone
+for r in 2 3; do
+    expect_fail --rc 2 "unknown policy 'bogus'" mpirun -q --oversubscribe -np "$r" "$PSIM" \
+        --model force -n 100 --pin=bogus
+    expect_fail --rc 2 "give one of them" mpirun -q --oversubscribe -np "$r" "$PSIM" \
+        --model force -n 100 -q --report
+    one=$("$PSIM" --help | wc -l)
+    many=$(mpirun -q --oversubscribe -np "$r" "$PSIM" --help | wc -l)
+    ((one > 10 && one == many)) || fail "$r ranks: --help printed $many lines, one process $one"
+done
+echo "ok: usage errors and --help are said once over ranks"
