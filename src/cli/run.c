@@ -7,6 +7,7 @@
 
 #include <omp.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "affinity.h"
 #include "cli.h"
@@ -177,14 +178,17 @@ static void print_summary(FILE *f, const run_opts *o, const psim_scene *sc,
  * output or an input is there already (named "the MODEL model's output"). */
 /* Output file of at path; over ranks (dist.h) rank 0's, and the others
  * write into it (in_parts: the states' outputs) or nothing (/dev/null
- * stands for it). */
+ * stands for it).  Ranks on other machines open it by its name: a named
+ * temporary file then, which a rank killed by SIGKILL leaves (an unnamed
+ * one goes with rank 0, whatever ends it). */
 static int open_output(outfile *of, const char *path, int in_parts)
 {
     if (psim_dist_ranks() < 2)
         return outfile_open(of, path);
     if (psim_dist_rank() != 0)
         return outfile_open(of, "/dev/null");
-    return in_parts ? outfile_open_named(of, path) : outfile_open(of, path);
+    return in_parts && !psim_dist_one_node() ? outfile_open_named(of, path)
+                                             : outfile_open(of, path);
 }
 
 static int open_outputs(const run_opts *o, run_state *rs, const char *model)
@@ -193,6 +197,8 @@ static int open_outputs(const run_opts *o, run_state *rs, const char *model)
     outfile *of[RUN_OUTPUTS];
     output_paths(o, path);
     output_files(rs, of);
+    if (psim_dist_ranks() > 1)
+        psim_dist_one_node();   /* (collective the first time) */
     if (!path[0] && rs->style.to_stdout) {
         char label[64];
         snprintf(label, sizeof label, "the %s model's output", model);
@@ -206,15 +212,27 @@ static int open_outputs(const run_opts *o, run_state *rs, const char *model)
     return 0;
 }
 
+/* Over ranks, collective: output of opened by every rank, to write its
+ * parts of it (dist.h); 0, or -1 with errno set. */
+static int share_output(const outfile *of)
+{
+    char proc[48];
+    const char *name = of->tmp;
+    if (of->unnamed) {   /* (rank 0's) */
+        snprintf(proc, sizeof proc, "/proc/%ld/fd/%d", (long)getpid(), of->fd);
+        name = proc;
+    }
+    return psim_dist_output_open(of->f, name);
+}
+
 /* Over ranks, collective: the outputs of states opened by every rank, to
- * write its parts of them (dist.h); 0, or 1 after rank 0 said why not. */
+ * write its parts of them; 0, or 1 after rank 0 said why not. */
 static int share_outputs(run_state *rs)
 {
     outfile *of[RUN_OUTPUTS];
     output_files(rs, of);
     for (int k = 0; k < RUN_OUTPUTS; k++)
-        if (of[k]->f && k != OUT_STATS && k != OUT_THERMO &&
-            psim_dist_output_open(of[k]->f, of[k]->tmp)) {
+        if (of[k]->f && k != OUT_STATS && k != OUT_THERMO && share_output(of[k])) {
             if (psim_dist_rank() == 0)
                 cli_err("psim: %s: cannot write: %s", of[k]->name, strerror(errno));
             return 1;
@@ -317,7 +335,7 @@ static int checkpoint(const run_opts *o, psim_sim *s, run_state *rs, long k, lon
             psim_error_set(err, "%s", "");
         return -1;
     }
-    if (psim_dist_ranks() > 1 && psim_dist_output_open(rs->restart.f, rs->restart.tmp)) {
+    if (psim_dist_ranks() > 1 && share_output(&rs->restart)) {
         set_write_failed(err, o->restart);
         return -1;
     }

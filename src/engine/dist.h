@@ -108,10 +108,14 @@ struct psim_dist_parts *psim_dist_parts_begin(struct psim_sim *e, FILE *f);
 struct psim_sim *psim_dist_parts_next(struct psim_dist_parts *w, FILE **mem);
 void psim_dist_parts_done(struct psim_dist_parts *w, int rc);
 int psim_dist_parts_end(struct psim_dist_parts *w);
+/* Collective the first time: whether every rank runs on rank 0's
+ * machine (then they can open rank 0's unnamed files, through /proc). */
+int psim_dist_one_node(void);
 /* Collective: an output every rank writes its parts of at their offsets.
- * path: on rank 0, the regular file that holds the bytes of its stream f
- * (its temporary file, which every rank opens by that name: a folder
- * every rank sees), or NULL for an output rank 0 writes alone, the other
+ * path: on rank 0, a name of the regular file that holds the bytes of its
+ * stream f, which every rank opens (its temporary file in a folder every
+ * rank sees, or where every rank runs on one machine, its unnamed file as
+ * /proc/PID/fd/N), or NULL for an output rank 0 writes alone, the other
  * ranks' parts sent to it (standard output, a pipe, a device); NULL on
  * the other ranks.  Each rank's f (a stream the writes are given there,
  * never written) stands for the output in the writes.  0, or -1 on every

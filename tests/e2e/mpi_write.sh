@@ -15,9 +15,15 @@ if ! mpi_setup; then
 fi
 
 # mpi R ARGS...: psim over R ranks (PSIM_PART_LINES passed on when set:
-# a rank's part of a round of the writes, in lines)
-mpi() { local r=$1; shift; mpirun -q --oversubscribe -x PSIM_PART_LINES -np "$r" "$PSIM" "$@"; }
-export PSIM_PART_LINES=
+# a rank's part of a round of the writes, in lines; PSIM_TMPFILE=0: the
+# outputs through named temporary files, as where ranks run on several
+# machines)
+mpi() {
+    local r=$1
+    shift
+    mpirun -q --oversubscribe -x PSIM_PART_LINES -x PSIM_TMPFILE -np "$r" "$PSIM" "$@"
+}
+export PSIM_PART_LINES= PSIM_TMPFILE=
 
 kinds=(txt tr fin rs xyz)
 # outs PREFIX: every output of states, to PREFIX.KIND
@@ -54,8 +60,22 @@ for s in 1000 1 2 3 5; do
     done
 done
 export PSIM_PART_LINES=
-compgen -G "$tmp/.psim-*" >/dev/null && fail "a temporary file was left"
 echo "ok: every output over 2-4 ranks x 1-2 threads has the bytes of one process"
+
+# Through named temporary files.
+# shellcheck disable=SC2046
+run_ok "$PSIM" --model force "$tmp/s1000.in" --threads 2 -q $(outs "$tmp/one")
+for r in 2 3; do
+    rm -f "$tmp"/r.*
+    # shellcheck disable=SC2046
+    PSIM_TMPFILE=0 PSIM_PART_LINES=100 run_ok mpi "$r" --model force "$tmp/s1000.in" \
+        --threads 2 -q $(outs "$tmp/r")
+    for k in "${kinds[@]}"; do
+        same_file "$tmp/one.$k" "$tmp/r.$k" "$r ranks, named temporary files: .$k"
+    done
+done
+compgen -G "$tmp/.psim-*" >/dev/null && fail "a temporary file was left"
+echo "ok: the same through named temporary files"
 
 # Outputs that are not regular files, which rank 0 writes alone: standard
 # output and a FIFO.
@@ -94,7 +114,9 @@ wrap='trap "" XFSZ; [[ $OMPI_COMM_WORLD_RANK == 1 ]] && ulimit -f 8
 for out in --final --trace --dump --restart -o; do
     for r in 2 3; do
         rm -rf "$tmp/rc" && mkdir "$tmp/rc"
-        RCDIR=$tmp/rc mpirun -q --oversubscribe -x RCDIR --mca io ompio --mca fcoll individual \
+        # (named temporary files with 3 ranks)
+        PSIM_TMPFILE=$((r == 3 ? 0 : 1)) RCDIR=$tmp/rc mpirun -q --oversubscribe -x RCDIR \
+            -x PSIM_TMPFILE --mca io ompio --mca fcoll individual \
             --mca orte_abort_on_non_zero_status 0 -np "$r" bash -c "$wrap" "$PSIM" \
             --model force "$tmp/s1000.in" --threads 1 -q "$out" "$tmp/full.txt" \
             2>"$tmp/full.err" || true
