@@ -173,9 +173,6 @@ static void print_summary(FILE *f, const run_opts *o, const psim_scene *sc,
                 st->tile_cells, st->tiles);
 }
 
-/* Open the outputs; 0, 1 when one cannot be opened, 2 when the model's
- * output goes to standard output (its source prints there) and another
- * output or an input is there already (named "the MODEL model's output"). */
 /* Output file of at path; over ranks (dist.h) rank 0's, and the others
  * write into it (in_parts: the states' outputs) or nothing (/dev/null
  * stands for it).  Ranks on other machines open it by its name: a named
@@ -191,6 +188,9 @@ static int open_output(outfile *of, const char *path, int in_parts)
                                              : outfile_open(of, path);
 }
 
+/* Open the outputs; 0, 1 when one cannot be opened, 2 when the model's
+ * output goes to standard output (its source prints there) and another
+ * output or an input is there already (named "the MODEL model's output"). */
 static int open_outputs(const run_opts *o, run_state *rs, const char *model)
 {
     const char *path[RUN_OUTPUTS];
