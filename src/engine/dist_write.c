@@ -493,20 +493,6 @@ int psim_dist_parts_end(struct psim_dist_parts *w)
     errno = ENOTSUP;
     return -1;
 }
-int psim_dist_one_node(void)
-{
-    static int one = -1;
-    if (one < 0) {
-        MPI_Comm node;
-        int size = 0;
-        MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node);
-        MPI_Comm_size(node, &size);
-        MPI_Comm_free(&node);
-        one = size == psim_dist_ranks();
-    }
-    return one;
-}
-
 int psim_dist_one_node(void) { return 1; }
 int psim_dist_output_open(FILE *f, const char *path)
 {
