@@ -12,7 +12,8 @@
  * memory, and learns from every rank's length where its bytes go.  Into
  * a regular file every rank writes its bytes at their offset, all
  * together (MPI_File_write_at_all, on the temporary file rank 0 opened
- * and every rank opened by its name: psim_dist_output_open); rank 0's
+ * and every rank opened by a name rank 0 gave, psim_dist_output_open:
+ * /proc/PID/fd/N for an unnamed file on one machine); rank 0's
  * own stream, which wrote what came before (the header of --out), is
  * flushed first and set after the last byte at the end.  Anything else
  * (standard output, a pipe, a device) is written by rank 0 alone, the
