@@ -109,9 +109,16 @@ echo "ok: checkpoints over ranks"
 # KB blocks) lies below its first part, written by itself (ompio's
 # individual writes; SIGXFSZ ignored, so that the write fails with EFBIG).
 # Each rank's exit status is kept (mpirun does not end the others first).
+# (ThreadSanitizer's runtime, with LLVM's libomp, faults under a file
+# size limit before psim runs)
 wrap='trap "" XFSZ; [[ $OMPI_COMM_WORLD_RANK == 1 ]] && ulimit -f 8
 "$0" "$@"; echo $? >"$RCDIR/rc.$OMPI_COMM_WORLD_RANK"'
-for out in --final --trace --dump --restart -o; do
+fsize_outs=(--final --trace --dump --restart -o)
+if "$PSIM" --version | grep -q "sanitizers[^,]*thread"; then
+    echo "mpi_write: a file size limit needs a build without ThreadSanitizer"
+    fsize_outs=()
+fi
+for out in "${fsize_outs[@]}"; do
     for r in 2 3; do
         rm -rf "$tmp/rc" && mkdir "$tmp/rc"
         # (named temporary files with 3 ranks)
@@ -130,7 +137,8 @@ for out in --final --trace --dump --restart -o; do
         done
     done
 done
-echo "ok: a write that fails on one rank fails every rank and leaves no file"
+((${#fsize_outs[@]} == 0)) ||
+    echo "ok: a write that fails on one rank fails every rank and leaves no file"
 
 # Rank 0's own stream fails (a device: rank 0 writes it alone), and a
 # folder that is a file: one line, exit 1.
