@@ -166,7 +166,7 @@ static int open_direct(outfile *o, const char *path)
 /* The file the output will be (o->path, through its links), written
  * first to an unnamed file, else to the fallback's named one: the
  * descriptor to write, or -1 with errno set. */
-static int open_hidden(outfile *o, const char *path, mode_t mode)
+static int open_hidden(outfile *o, const char *path, mode_t mode, int named)
 {
     struct stat st;
     o->path = cli_canonical(path);
@@ -178,7 +178,7 @@ static int open_hidden(outfile *o, const char *path, mode_t mode)
     char *dir = folder_of(o->path);
     if (!dir)
         return -1;
-    int fd = open_unnamed(dir, mode);
+    int fd = named ? -2 : open_unnamed(dir, mode);
     if (fd >= 0) {
         /* one descriptor to write through, and one that keeps the file
          * to link after the other is closed (above 2, whatever is open) */
@@ -194,7 +194,7 @@ static int open_hidden(outfile *o, const char *path, mode_t mode)
     return fd;
 }
 
-int outfile_open(outfile *o, const char *path)
+static int open_as(outfile *o, const char *path, int named)
 {
     memset(o, 0, sizeof *o);
     o->name = path;
@@ -222,7 +222,7 @@ int outfile_open(outfile *o, const char *path)
     mode_t mask = umask(0);
     umask(mask);
     errno = 0;
-    int fd = open_hidden(o, path, exists ? (st.st_mode & 07777) : (0666 & ~mask));
+    int fd = open_hidden(o, path, exists ? (st.st_mode & 07777) : (0666 & ~mask), named);
     o->f = fd >= 0 ? fdopen(fd, "w") : NULL;
     if (!o->f) {
         cli_err("psim: %s: cannot write: %s", path, strerror(errno ? errno : ENOMEM));
@@ -232,6 +232,16 @@ int outfile_open(outfile *o, const char *path)
         return -1;
     }
     return 0;
+}
+
+int outfile_open(outfile *o, const char *path)
+{
+    return open_as(o, path, 0);
+}
+
+int outfile_open_named(outfile *o, const char *path)
+{
+    return open_as(o, path, 1);
 }
 
 /* Flush and close; 0, or -1 after one error line.  An unnamed file stays

@@ -26,6 +26,10 @@ typedef struct outfile {
 } outfile;
 
 int outfile_open(outfile *o, const char *path);
+/* The same, a regular file written to a named temporary file (o->tmp,
+ * the fallback's), never to an unnamed one: other processes (MPI ranks)
+ * open it by that name to write into it. */
+int outfile_open_named(outfile *o, const char *path);
 /* Close every open file of list, then, if all were written, put them in
  * place; otherwise remove them all.  One error line on failure. */
 int outfile_commit_all(outfile *const *list, int n);

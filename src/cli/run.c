@@ -109,6 +109,7 @@ typedef struct run_state {
 } run_state;
 
 /* Its output files, in the order of output_paths. */
+enum { OUT_STATS = 3, OUT_THERMO = 4 };
 static void output_files(run_state *rs, outfile **l)
 {
     outfile *list[RUN_OUTPUTS] = {&rs->out,    &rs->trace, &rs->final,  &rs->stats,
@@ -181,6 +182,21 @@ static void print_summary(FILE *f, const run_opts *o, const psim_scene *sc,
                 st->tile_cells, st->tiles);
 }
 
+/* Output file of at path; over ranks (dist.h) rank 0's, and the others
+ * write into it (in_parts: the states' outputs) or nothing (/dev/null
+ * stands for it).  Ranks on other machines open it by its name: a named
+ * temporary file then, which a rank killed by SIGKILL leaves (an unnamed
+ * one goes with rank 0, whatever ends it). */
+static int open_output(outfile *of, const char *path, int in_parts)
+{
+    if (psim_dist_ranks() < 2)
+        return outfile_open(of, path);
+    if (psim_dist_rank() != 0)
+        return outfile_open(of, "/dev/null");
+    return in_parts && !psim_dist_one_node() ? outfile_open_named(of, path)
+                                             : outfile_open(of, path);
+}
+
 /* Open the outputs; 0, 1 when one cannot be opened, 2 when the model's
  * output goes to standard output (its source prints there) and another
  * output or an input is there already (named "the MODEL model's output"). */
@@ -190,6 +206,8 @@ static int open_outputs(const run_opts *o, run_state *rs, const char *model)
     outfile *of[RUN_OUTPUTS];
     output_paths(o, path);
     output_files(rs, of);
+    if (psim_dist_ranks() > 1)
+        psim_dist_one_node();   /* (collective the first time) */
     if (!path[0] && rs->style.to_stdout) {
         char label[64];
         snprintf(label, sizeof label, "the %s model's output", model);
@@ -197,17 +215,43 @@ static int open_outputs(const run_opts *o, run_state *rs, const char *model)
             return 2;
         path[0] = "-";
     }
-    /* over ranks rank 0 writes every file (dist.h), the others take
-     * part in each write without writing */
-    const int writer = psim_dist_rank() == 0;
     for (int k = 0; k < RUN_OUTPUTS; k++)
-        if (path[k] && outfile_open(of[k], writer ? path[k] : "/dev/null"))
+        if (path[k] && open_output(of[k], path[k], k != OUT_STATS && k != OUT_THERMO))
             return 1;
+    return 0;
+}
+
+/* Over ranks, collective: output of opened by every rank, to write its
+ * parts of it (dist.h); 0, or -1 with errno set. */
+static int share_output(const outfile *of)
+{
+    char proc[48];
+    const char *name = of->tmp;
+    if (of->unnamed) {   /* (rank 0's) */
+        snprintf(proc, sizeof proc, "/proc/%ld/fd/%d", (long)getpid(), of->fd);
+        name = proc;
+    }
+    return psim_dist_output_open(of->f, name);
+}
+
+/* Over ranks, collective: the outputs of states opened by every rank, to
+ * write its parts of them; 0, or 1 after rank 0 said why not. */
+static int share_outputs(run_state *rs)
+{
+    outfile *of[RUN_OUTPUTS];
+    output_files(rs, of);
+    for (int k = 0; k < RUN_OUTPUTS; k++)
+        if (of[k]->f && k != OUT_STATS && k != OUT_THERMO && share_output(of[k])) {
+            if (psim_dist_rank() == 0)
+                cli_err("psim: %s: cannot write: %s", of[k]->name, strerror(errno));
+            return 1;
+        }
     return 0;
 }
 
 static void abort_outputs(run_state *rs)
 {
+    psim_dist_outputs_close();   /* (over ranks: collective) */
     outfile *of[RUN_OUTPUTS];
     output_files(rs, of);
     for (int k = 0; k < RUN_OUTPUTS; k++)
@@ -227,7 +271,7 @@ static int out_due(const run_state *rs, long k, long last)
 /* "NAME: write failed: REASON", the reason from errno (EIO if none). */
 static void set_write_failed(psim_error *err, const char *name)
 {
-    if (psim_dist_rank() != 0) {   /* rank 0 writes, and says why it failed */
+    if (psim_dist_rank() != 0) {   /* rank 0 says why (errno: every rank's) */
         psim_error_set(err, "%s", "");
         return;
     }
@@ -289,15 +333,19 @@ static int checkpoint(const run_opts *o, psim_sim *s, run_state *rs, long k, lon
         set_write_failed(err, o->restart);
         return -1;
     }
-    /* over ranks rank 0 alone writes the file, as open_outputs opens it;
-     * a failure is every rank's */
-    const int failed = outfile_commit(&rs->restart) ||
-                       outfile_open(&rs->restart, psim_dist_rank() == 0 ? o->restart : "/dev/null");
+    /* over ranks every rank closes the file, rank 0 puts it in place
+     * and opens the next, as open_outputs; a failure is every rank's */
+    int failed = psim_dist_output_close(rs->restart.f) != 0;
+    failed = failed || outfile_commit(&rs->restart) || open_output(&rs->restart, o->restart, 1);
     if (ranks_failed(failed, NULL)) {
         if (failed)
             psim_error_set(err, "%s: checkpoint failed", o->restart);
         else
             psim_error_set(err, "%s", "");
+        return -1;
+    }
+    if (psim_dist_ranks() > 1 && share_output(&rs->restart)) {
+        set_write_failed(err, o->restart);
         return -1;
     }
     return 0;
@@ -704,6 +752,8 @@ int cli_run(int argc, char **argv)
         rc = opened ? opened : 1;
         goto done;
     }
+    if (ranks > 1 && share_outputs(&rs))
+        goto done;
     double t0 = psim_now();
     int ran = ranks_stopped(simulate(&o, s, &sc, &cfg, steps, &rs, &err), s, &err);
     /* (over ranks, a rank that did not fail itself has no message) */
@@ -720,17 +770,20 @@ int cli_run(int argc, char **argv)
     const long last = psim_step_index(s);
     if (rs.out.f && rs.style.final && write_out(&o, s, &rs.out, last, 1)) {
         set_write_failed(&err, rs.out.name);
-        cli_err("psim: %s", err.msg);
+        if (*err.msg)   /* (over ranks, rank 0's) */
+            cli_err("psim: %s", err.msg);
         goto done;
     }
     if (rs.final.f && write_trace(&o, s, &rs.final, last)) {
         set_write_failed(&err, rs.final.name);
-        cli_err("psim: %s", err.msg);
+        if (*err.msg)   /* (over ranks, rank 0's) */
+            cli_err("psim: %s", err.msg);
         goto done;
     }
     if (rs.restart.f && write_restart(&o, s, &rs.restart, steps)) {
         set_write_failed(&err, rs.restart.name);
-        cli_err("psim: %s", err.msg);
+        if (*err.msg)   /* (over ranks, rank 0's) */
+            cli_err("psim: %s", err.msg);
         goto done;
     }
     if (ranks > 1) {   /* every rank's figures to rank 0 */
@@ -763,6 +816,14 @@ int cli_run(int argc, char **argv)
     for (int k = 0; k < RUN_OUTPUTS; k++)
         if (on_stdout(outs[k]))
             info = stderr;
+    /* (over ranks every rank's writes end before rank 0 puts the files
+     * in place) */
+    if (psim_dist_outputs_close()) {
+        set_write_failed(&err, "the outputs");
+        if (*err.msg)
+            cli_err("psim: %s", err.msg);
+        goto done;
+    }
     if (ranks_failed(outfile_commit_all(outs, RUN_OUTPUTS), NULL))
         goto done;
     if (!o.quiet) {

@@ -17,9 +17,10 @@
  * step.  The model rebuilds what it derives from the store (lists, its
  * sort) after an exchange, and only then (psim_engine_exchanged).
  *
- * Outputs: the state by id is gathered to rank 0, which writes it through
- * the same writers as one process (psim_dist_view), so the bytes are the
- * same for any rank and thread count.
+ * Outputs: every rank writes its parts of each file in parallel, at
+ * their offsets (dist_write.c), through the same writers as one process,
+ * so the bytes are the same for any rank and thread count; no rank holds
+ * the whole state.
  *
  * MPI is started only when a launcher started psim (psim_dist_start): a
  * run without one makes no MPI call. */
@@ -27,6 +28,7 @@
 #define PSIM_ENGINE_DIST_H
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #include "psim/psim.h"
 #include "../io/restart_schema.h"
@@ -108,11 +110,38 @@ int psim_dist_finite(const struct psim_sim *e, psim_error *err);
 /* After the model sorted the store: the ghosts' and the sent particles'
  * places found again. */
 void psim_dist_sorted(struct psim_sim *e);
-/* Collective: the state by id on rank 0, as a simulation the writers read
- * (rank 0), or NULL (the other ranks).  Out of memory, or a particle on
- * no rank or on two, ends the job (psim_dist_abort). */
-struct psim_sim *psim_dist_view(struct psim_sim *e);
-void psim_dist_view_free(struct psim_sim *v);
+/* Writing the state by parts (dist_write.c, through BY_PARTS in
+ * engine.h), collective: begin for output f (rank 0's stream; any on
+ * the other ranks), then while next gives a part (a simulation of a few
+ * ids in order, and the stream its text goes to), done with its writer's
+ * result; end: 0, or -1 on every rank with errno set when a write failed
+ * on any.  Out of memory, or a particle on no rank or on two, ends the
+ * job (psim_dist_abort). */
+struct psim_dist_parts;
+struct psim_dist_parts *psim_dist_parts_begin(struct psim_sim *e, FILE *f);
+struct psim_sim *psim_dist_parts_next(struct psim_dist_parts *w, FILE **mem);
+void psim_dist_parts_done(struct psim_dist_parts *w, int rc);
+int psim_dist_parts_end(struct psim_dist_parts *w);
+/* Collective the first time: whether every rank runs on rank 0's
+ * machine (then they can open rank 0's unnamed files, through /proc). */
+int psim_dist_one_node(void);
+/* Collective: an output every rank writes its parts of at their offsets.
+ * path: on rank 0, a name of the regular file that holds the bytes of its
+ * stream f, which every rank opens (its temporary file in a folder every
+ * rank sees, or where every rank runs on one machine, its unnamed file as
+ * /proc/PID/fd/N), or NULL for an output rank 0 writes alone, the other
+ * ranks' parts sent to it (standard output, a pipe, a device); NULL on
+ * the other ranks.  Each rank's f (a stream the writes are given there,
+ * never written) stands for the output in the writes.  0, or -1 on every
+ * rank with errno set (the file could not be opened). */
+int psim_dist_output_open(FILE *f, const char *path);
+/* Collective: the output of f closed on every rank (before rank 0 puts
+ * the file in place or removes it); nothing for an output never opened
+ * so.  0, or -1 on every rank with errno set. */
+int psim_dist_output_close(FILE *f);
+/* Collective: every output still open so, closed: 0, or -1 on every
+ * rank with errno set. */
+int psim_dist_outputs_close(void);
 /* Collective: counters and phase times of every rank into rank 0's stats
  * (counters summed, times the largest), and each rank's own figures into
  * per (rank 0, psim_dist_ranks() entries; NULL elsewhere). */

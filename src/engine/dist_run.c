@@ -1,6 +1,6 @@
 /* The distributed engine's side of a run (dist.h): a rank's share of the
- * particles, the exchanges, the ghosts' updates, the state gathered for
- * the writers and the figures summed for the summary. */
+ * particles, the exchanges, the ghosts' updates and the figures summed
+ * for the summary (the outputs: dist_write.c). */
 #include "dist.h"
 
 #include <errno.h>
@@ -708,80 +708,6 @@ void psim_dist_sorted(psim_sim *e)
     e->stats.phase_s[d->comm_phase] += psim_now() - t0;
 }
 
-psim_sim *psim_dist_view(psim_sim *e)
-{
-    psim_dist *d = e->dist;
-    const int n = R();
-    double *mine = malloc((d->n_own ? d->n_own : 1) * REC * sizeof *mine);
-    if (!mine)
-        out_of_memory("the state");
-    for (size_t i = 0, k = 0; i < e->st.n; i++)
-        if (!d->ghost[i])
-            put_rec(mine + k++ * REC, &e->st, i);
-    int cnt = (int)d->n_own, *cnts = NULL, *dsp = NULL;
-    double *all = NULL;
-    MPI_Datatype rec;
-    MPI_Type_contiguous(REC, MPI_DOUBLE, &rec);
-    MPI_Type_commit(&rec);
-    if (me() == 0) {
-        cnts = malloc(2 * (size_t)n * sizeof *cnts);
-        all = malloc((size_t)(e->n_all ? e->n_all : 1) * REC * sizeof *all);
-        if (!cnts || !all)
-            out_of_memory("the state");
-        dsp = cnts + n;
-    }
-    MPI_Gather(&cnt, 1, MPI_INT, cnts, 1, MPI_INT, 0, MPI_COMM_WORLD);
-    long total = 0;
-    for (int q = 0; me() == 0 && q < n; q++)
-        dsp[q] = (int)total, total += cnts[q];
-    if (me() == 0 && total != e->n_all) {   /* a particle lost or doubled: never written */
-        fprintf(stderr, "psim: the ranks hold %ld particles, not %ld\n", total, e->n_all);
-        psim_dist_abort(1);
-    }
-    MPI_Gatherv(mine, cnt, rec, all, cnts, dsp, rec, 0, MPI_COMM_WORLD);
-    MPI_Type_free(&rec);
-    free(mine), free(cnts);
-    if (me() != 0)
-        return NULL;
-    psim_sim *v = malloc(sizeof *v);
-    if (!v)
-        out_of_memory("the state");
-    *v = *e;
-    v->dist = NULL;
-    size_t N = (size_t)e->n_all;
-    memset(&v->st, 0, sizeof v->st);
-    v->st.n = v->st.cap = N;
-    v->n = e->n_all;
-    v->st.x = psim_alloc(N * sizeof(double) + 1), v->st.y = psim_alloc(N * sizeof(double) + 1);
-    v->st.vx = psim_alloc(N * sizeof(double) + 1), v->st.vy = psim_alloc(N * sizeof(double) + 1);
-    v->st.id = psim_alloc(N * sizeof(int32_t) + 1);
-    if (!v->st.x || !v->st.y || !v->st.vx || !v->st.vy || !v->st.id)
-        out_of_memory("the state");
-    memset(v->st.id, 0xff, N * sizeof(int32_t));
-    for (size_t k = 0; k < N; k++) {
-        const double *p = all + k * REC;
-        size_t i = (size_t)p[0];
-        v->st.id[i] = (int32_t)i;
-        v->st.x[i] = p[1], v->st.y[i] = p[2], v->st.vx[i] = p[3], v->st.vy[i] = p[4];
-    }
-    free(all);
-    for (size_t i = 0; i < N; i++)
-        if (v->st.id[i] != (int32_t)i) {
-            fprintf(stderr, "psim: particle %zu is on no rank\n", i);
-            psim_dist_abort(1);
-        }
-    return v;
-}
-
-void psim_dist_view_free(psim_sim *v)
-{
-    if (!v)
-        return;
-    psim_free(v->st.x), psim_free(v->st.y), psim_free(v->st.vx), psim_free(v->st.vy);
-    psim_free(v->st.id);
-    free(v);
-}
-
 void psim_dist_reduce_stats(psim_sim *e, psim_rank_stats *per)
 {
     psim_dist *d = e->dist;
@@ -832,8 +758,6 @@ int psim_dist_bbox(const psim_sim *e, double *bb) { (void)e, (void)bb; return -1
 int psim_dist_prestep(psim_sim *e, psim_error *err) { (void)e, (void)err; return 0; }
 int psim_dist_poststep(psim_sim *e, int rc, psim_error *err) { (void)e, (void)err; return rc; }
 void psim_dist_sorted(psim_sim *e) { (void)e; }
-psim_sim *psim_dist_view(psim_sim *e) { (void)e; return NULL; }
-void psim_dist_view_free(psim_sim *v) { (void)v; }
 void psim_dist_reduce_stats(psim_sim *e, psim_rank_stats *per) { (void)e, (void)per; }
 int psim_engine_exchanged(const psim_sim *e) { (void)e; return 0; }
 void psim_engine_moved(psim_sim *e, double most) { (void)e, (void)most; }

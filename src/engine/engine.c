@@ -577,7 +577,7 @@ void psim_print_skips(FILE *f, const psim_sim *e)
 
 int psim_write_output(psim_sim *e, FILE *f, long step, int final, int digits)
 {
-    ON_RANK0(e, psim_write_output(v_, f, step, final, digits));
+    BY_PARTS(e, f, psim_write_output(v_, f_, step, final, digits));
     if (e->model->write_state)
         return e->model->write_state(e, e->mstate, f, step, final,
                                      digits >= 0 ? digits : e->model->output_digits);
@@ -588,7 +588,8 @@ int psim_state_cols_take(const psim_sim *e, psim_cols *c)
 {
     const psim_store *s = &e->st;
     int32_t *at = psim_alloc((s->n > 0 ? s->n : 1) * sizeof *at);
-    *c = (psim_cols){s->x, s->y, s->vx, s->vy, at};
+    const long id0 = e->part ? e->part->id0 : 0;
+    *c = (psim_cols){s->x, s->y, s->vx, s->vy, at, id0};
     if (!at) {
         errno = ENOMEM;
         return -1;
@@ -596,7 +597,7 @@ int psim_state_cols_take(const psim_sim *e, psim_cols *c)
     const long n = (long)s->n;
 #pragma omp parallel for schedule(static) num_threads(e->threads) if (n > 65536)
     for (long k = 0; k < n; k++)
-        at[s->id[k]] = (int32_t)k;
+        at[s->id[k] - id0] = (int32_t)k;
     return 0;
 }
 
@@ -608,7 +609,7 @@ void psim_state_cols_free(psim_cols *c)
 
 int psim_write_trace(psim_sim *e, FILE *f, long step, int digits)
 {
-    ON_RANK0(e, psim_write_trace(v_, f, step, digits));
+    BY_PARTS(e, f, psim_write_trace(v_, f_, step, digits));
     psim_cols c;
     if (psim_state_cols_take(e, &c))
         return -1;
@@ -620,12 +621,12 @@ int psim_write_trace(psim_sim *e, FILE *f, long step, int digits)
 
 int psim_write_dump(psim_sim *e, FILE *f, long step)
 {
-    ON_RANK0(e, psim_write_dump(v_, f, step));
+    BY_PARTS(e, f, psim_write_dump(v_, f_, step));
     psim_cols c;
     if (psim_state_cols_take(e, &c))
         return -1;
     int rc = psim_write_xyz_cols(f, step, psim_time_at(e, step), e->n, e->L, e->r, &c,
-                                 e->threads);
+                                 e->part, e->threads);
     psim_state_cols_free(&c);
     return rc;
 }

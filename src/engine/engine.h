@@ -50,6 +50,9 @@ struct psim_sim {
      * included; n_all every rank's (without ranks, n) */
     struct psim_dist *dist;
     long n_all;
+    /* NULL, or (a part written by BY_PARTS) the part of the outputs its
+     * state is: its ids are part->id0 .. part->id0 + n - 1 */
+    const psim_part *part;
 };
 
 /* restart.c: what a restart file carries into the engine at its creation
@@ -86,19 +89,20 @@ int psim_engine_limits(const struct psim_sim *e, const psim_scene *sc, psim_erro
         PSIM_REGION_END(e, p);                                            \
     } while (0)
 
-/* Over ranks: the state gathered to rank 0, which writes it through the
- * same writer (v, the gathered state, has no ranks); the other ranks
- * write nothing, and every rank returns -1 if rank 0's write failed. */
-#define ON_RANK0(e, call)                                                     \
+/* Over ranks: the state written by parts (dist_write.c), each part a
+ * simulation v_ of a few of the ids in order (its `part` says which, and
+ * whether it writes the file's header or footer) that `call` writes to f_
+ * as one process would; every rank returns the same, -1 with errno set if
+ * a write failed on any of them. */
+#define BY_PARTS(e, f, call)                                                  \
     do {                                                                      \
         if ((e)->dist) {                                                      \
-            psim_sim *v_ = psim_dist_view(e);                                 \
-            int rc_ = 0;                                                      \
-            if (v_) {                                                         \
-                rc_ = call;                                                   \
-            }                                                                 \
-            psim_dist_view_free(v_);                                          \
-            return psim_dist_agree(rc_ != 0) >= 0 ? -1 : 0;                   \
+            struct psim_dist_parts *w_ = psim_dist_parts_begin(e, f);         \
+            psim_sim *v_;                                                     \
+            FILE *f_;                                                         \
+            while ((v_ = psim_dist_parts_next(w_, &f_)) != NULL)              \
+                psim_dist_parts_done(w_, call);                               \
+            return psim_dist_parts_end(w_);                                   \
         }                                                                     \
     } while (0)
 

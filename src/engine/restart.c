@@ -5,6 +5,7 @@
  * model's results follow it (the discrete model resolves contacts in that
  * order; others by id) and the model's own columns (ccd: its collision
  * counts; event: each disk's own time). */
+#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -165,7 +166,7 @@ static int put_header(FILE *f, const psim_sim *e, long steps)
     char l[PSIM_FMT_MAX], r[PSIM_FMT_MAX];
     psim_fmt_shortest(l, e->L);
     psim_fmt_shortest(r, e->r);
-    return fprintf(f, "\n%ld\n%s\n%s\n%ld\n", e->n, l, r, steps) < 0 ? -1 : 0;
+    return fprintf(f, "\n%ld\n%s\n%s\n%ld\n", e->n_all, l, r, steps) < 0 ? -1 : 0;
 }
 
 typedef struct restart_lines {
@@ -205,10 +206,16 @@ static size_t restart_line(char *out, long j, const void *vctx)
 
 int psim_write_restart(psim_sim *e, FILE *f, long steps)
 {
-    ON_RANK0(e, psim_write_restart(v_, f, steps));
+    BY_PARTS(e, f, psim_write_restart(v_, f_, steps));
     restart_lines c = {.st = &e->st};
     psim_cols by_id = {0};
     int rc = -1;
+    if (e->part && e->model->restart_cols[0].name) {
+        /* (a model's columns are saved by id over its whole state: no
+         * model with columns runs over ranks, where the parts are) */
+        errno = ENOTSUP;
+        return -1;
+    }
     /* the store's order where the model's results follow it; else by id,
      * whatever order the model last sorted into */
     if (!e->model->follows_order) {
@@ -223,7 +230,11 @@ int psim_write_restart(psim_sim *e, FILE *f, long steps)
             goto done;
         e->model->restart_save(e, e->mstate, c.ncols, c.col[c.ncols]);
     }
-    if (put_header(f, e, steps) == 0)
+    if (e->part && !e->part->head)
+        rc = 0;
+    else
+        rc = put_header(f, e, steps);
+    if (rc == 0)
         rc = psim_write_lines(f, e->n, e->threads, RESTART_LINE_MAX, restart_line, &c);
 done:
     psim_state_cols_free(&by_id);

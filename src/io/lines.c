@@ -17,8 +17,19 @@ void psim_set_io_progress(psim_io_progress_fn fn, void *ctx)
     progress_ctx = ctx;
 }
 
+/* a file written by parts: the lines before the part, and the file's */
+static long long part_before, part_total = -1;
+
+void psim_io_progress_part(long long before, long long total)
+{
+    part_before = before;
+    part_total = total;
+}
+
 void psim_io_progress(int writing, long long done, long long total)
 {
+    if (part_total >= 0)
+        done += part_before, total = part_total;
     if (progress_fn)
         progress_fn(progress_ctx, writing, done, total);
 }

@@ -15,5 +15,9 @@ int psim_write_lines(FILE *f, long n, int threads, size_t line_max, psim_line_fn
 
 /* Progress of long reads and writes (psim_set_io_progress in psim.h). */
 void psim_io_progress(int writing, long long done, long long total);
+/* While a file is written by parts (each written as a whole file would
+ * be): the progress of a part counts on from `before` lines, out of the
+ * `total` lines of every part; total < 0: parts no more. */
+void psim_io_progress_part(long long before, long long total);
 
 #endif

@@ -47,7 +47,7 @@ static size_t state_line(char *out, long i, const void *vctx)
         p = psim_fmt_long(p, s->step);
         *p++ = ' ';
     }
-    p = psim_fmt_long(p, i);
+    p = psim_fmt_long(p, c->id0 + i);
     *p++ = ' ';
     p = put_num(p, c->x[k], s->digits);
     *p++ = ' ';
@@ -78,8 +78,8 @@ static int write_state_slow(FILE *f, int with_step, long step, long n, const psi
             psim_fmt_shortest_ref(cc, c->vx[k]);
             psim_fmt_shortest_ref(d, c->vy[k]);
         }
-        int w = with_step ? fprintf(f, "%ld %ld %s %s %s %s\n", step, i, a, b, cc, d)
-                          : fprintf(f, "%ld %s %s %s %s\n", i, a, b, cc, d);
+        int w = with_step ? fprintf(f, "%ld %ld %s %s %s %s\n", step, c->id0 + i, a, b, cc, d)
+                          : fprintf(f, "%ld %s %s %s %s\n", c->id0 + i, a, b, cc, d);
         if (w < 0)
             return -1;
     }
@@ -107,7 +107,7 @@ int psim_write_state(FILE *f, long step, long n, const double *x,
                      const double *y, const double *vx, const double *vy,
                      int digits)
 {
-    psim_cols c = {x, y, vx, vy, NULL};
+    psim_cols c = {x, y, vx, vy, NULL, 0};
     return write_cols(f, 1, step, n, &c, digits, omp_get_max_threads());
 }
 
@@ -120,6 +120,6 @@ int psim_scene_write(FILE *f, const psim_scene *sc)
     psim_fmt_shortest(r, sc->r);
     if (fprintf(f, "%ld\n%s\n%s\n%ld\n", sc->n, L, r, sc->steps) < 0)
         return -1;
-    psim_cols c = {sc->x, sc->y, sc->vx, sc->vy, NULL};
+    psim_cols c = {sc->x, sc->y, sc->vx, sc->vy, NULL, 0};
     return write_cols(f, 0, 0, sc->n, &c, -1, omp_get_max_threads());
 }

@@ -29,7 +29,7 @@ static size_t xyz_line(char *out, long i, const void *vctx)
     long k = c->at ? c->at[i] : i;
     char *p = out;
     *p++ = 'X', *p++ = ' ';
-    p = psim_fmt_long(p, i);
+    p = psim_fmt_long(p, c->id0 + i);
     *p++ = ' ';
     p += psim_fmt_shortest(p, c->x[k]);
     *p++ = ' ';
@@ -51,7 +51,7 @@ static size_t xyz_line(char *out, long i, const void *vctx)
 }
 
 int psim_write_xyz_cols(FILE *f, long step, double time, long n, double L, double r,
-                        const psim_cols *c, int threads)
+                        const psim_cols *c, const psim_part *part, int threads)
 {
     char l[PSIM_FMT_MAX], d[PSIM_FMT_MAX], t[PSIM_FMT_MAX];
     xyz_ctx x = {c, {0}, 0};
@@ -59,10 +59,11 @@ int psim_write_xyz_cols(FILE *f, long step, double time, long n, double L, doubl
     psim_fmt_shortest(d, 2 * r);
     psim_fmt_shortest(t, time);
     x.rlen = psim_fmt_shortest(x.r, r);
-    if (fprintf(f, "%ld\nLattice=\"%s 0 0 0 %s 0 0 0 %s\" Origin=\"0 0 0\" "
+    if ((!part || part->head) &&
+        fprintf(f, "%ld\nLattice=\"%s 0 0 0 %s 0 0 0 %s\" Origin=\"0 0 0\" "
                    "Properties=species:S:1:id:I:1:pos:R:3:momenta:R:3:velo:R:3:radius:R:1 Time=%s "
                    "step=%ld pbc=\"F F F\"\n",
-                n, l, l, d, t, step) < 0)
+                part ? part->total : n, l, l, d, t, step) < 0)
         return -1;
     return psim_write_lines(f, n, threads, XYZ_LINE_MAX, xyz_line, &x);
 }

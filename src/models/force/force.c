@@ -375,7 +375,9 @@ static int write_state(psim_sim *e, void *p, FILE *f, long step, int final, int 
         return -1;
     int rc = psim_io_slow() ? force_lines_slow(f, e->n, &o)
                             : psim_write_lines(f, e->n, e->threads, FORCE_LINE_MAX, force_line, &o);
-    if (rc == 0 && fputc('\n', f) == EOF)
+    /* a frame ends with a blank line (written by the frame's last part
+     * where parts of it are written apart: psim_part) */
+    if (rc == 0 && (!e->part || e->part->foot) && fputc('\n', f) == EOF)
         rc = -1;
     psim_state_cols_free(&o.c);
     return rc;
