@@ -27,9 +27,8 @@ while (($#)); do
     esac
 done
 psim=$build/psim
-[[ -x $psim ]] || { echo "$0: no $psim (build first)" >&2; exit 1; }
-command -v mpirun >/dev/null || { echo "$0: mpirun not found (openmpi-bin)" >&2; exit 1; }
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+. "$(dirname "$0")/lib.sh"
+mpi_ready "$psim"
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 
 # run R T N: one run; prints "seconds peak_kib" (peak: the largest rank's)
@@ -49,12 +48,10 @@ run() {
     echo "$(echo "$t1 - $t0" | bc -l) ${peak:-0}"
 }
 
-median() { sort -g | awk '{a[NR]=$1} END {print a[int((NR + 1) / 2)]}'; }
-
 echo "| N | ranks x threads | wall s (median of $reps) | speed-up over 1x1 | peak MiB, largest rank |"
 echo "|---:|---|---:|---:|---:|"
 for n in $ns; do
-    for rep in $(seq "$reps"); do
+    for _ in $(seq "$reps"); do
         for l in $layouts; do
             run "${l%x*}" "${l#*x}" "$n" >>"$tmp/$n.$l"
         done

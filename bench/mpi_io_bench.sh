@@ -28,9 +28,8 @@ while (($#)); do
     esac
 done
 psim=$build/psim
-[[ -x $psim ]] || { echo "$0: no $psim (build first)" >&2; exit 1; }
-command -v mpirun >/dev/null || { echo "$0: mpirun not found (openmpi-bin)" >&2; exit 1; }
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+. "$(dirname "$0")/lib.sh"
+mpi_ready "$psim"
 tmp=$(mktemp -d ${dir:+"$dir/psim-io.XXXXXX"}); trap 'rm -rf "$tmp"' EXIT
 "$psim" gen -n "$n" --density 0.2 -r 0.5 -s 1 --seed 4 -o "$tmp/scene.in" 2>/dev/null
 bytes=$(stat -c %s "$tmp/scene.in")
@@ -55,8 +54,6 @@ run() {
     echo "$(echo "$t1 - $t0" | bc -l) $read_s$peaks"
 }
 
-median() { sort -g | awk '{a[NR]=$1} END {print a[int((NR + 1) / 2)]}'; }
-
 for _ in $(seq "$reps"); do
     for r in $ranks; do
         run "$r" >>"$tmp/plain.$r"
@@ -73,7 +70,7 @@ for r in $ranks; do
     final=$(awk '{print $1}' "$tmp/final.$r" | median)
     peaks=
     for k in $(seq 3 $((r + 2))); do
-        peaks+="$(awk -v k="$k" '{print $k}' "$tmp/final.$r" | median) "
+        peaks+="$(awk -v k="$k" '{print $k}' "$tmp/final.$r" | median | awk '{printf "%.0f", $1}') "
     done
     printf '| %d | %.2f | %.2f | %s|\n' "$r" "$read_s" "$(echo "$final - $plain" | bc -l)" "$peaks"
 done
