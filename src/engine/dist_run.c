@@ -4,7 +4,6 @@
 #include "dist.h"
 
 #include <errno.h>
-#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -45,6 +44,11 @@ typedef struct psim_dist {
     uint32_t *from, *where;   /* the sort's permutation (store.from), its inverse */
     uint8_t *ghost2;
     size_t cap;
+    double *usend, *urecv;    /* the ghosts' fields in an update, kept (grow only) */
+    size_t usend_cap, urecv_cap;
+    uint32_t *pick;           /* an exchange's places: leavers, then those near a side */
+    int *dest;                /* the leavers' ranks */
+    size_t pick_cap;
     psim_rank_stats rs;
 } psim_dist;
 
@@ -212,6 +216,17 @@ static inline int deep_inside(const rect *r, double x, double y, double h)
     return x - r->x0 > h && r->x1 - x > h && y - r->y0 > h && r->y1 - y > h;
 }
 
+/* Room for n places in the exchange's kept arrays. */
+static void pick_room(psim_dist *d, size_t n)
+{
+    if (n <= d->pick_cap && d->pick)
+        return;
+    size_t c = n + n / 4 + 64;
+    d->pick = grow(d->pick, c * sizeof *d->pick, "an exchange");
+    d->dest = grow(d->dest, c * sizeof *d->dest, "an exchange");
+    d->pick_cap = c;
+}
+
 /* Migration: every owned particle that left this rank's domain goes to
  * the rank that owns its place now; those that stay are moved to the
  * front of the store (places 0..*stay), in their order.  The records
@@ -221,11 +236,11 @@ static double *migrate(psim_sim *e, size_t *stay, size_t *got)
     psim_dist *d = e->dist;
     psim_store *st = &e->st;
     int n = R();
-    size_t most = d->n_own ? d->n_own : 1;
-    uint32_t *out = malloc(most * sizeof *out);
-    int *dest = malloc(most * sizeof *dest);
+    pick_room(d, d->n_own);
+    uint32_t *out = d->pick;
+    int *dest = d->dest;
     int *c = calloc(4 * (size_t)n, sizeof *c);
-    if (!out || !dest || !c)
+    if (!c)
         out_of_memory("an exchange");
     size_t m = 0, w = 0;
     const rect own = own_rect(&d->cuts);
@@ -259,7 +274,7 @@ static double *migrate(psim_sim *e, size_t *stay, size_t *got)
     if (!rbuf)
         out_of_memory("an exchange");
     alltoallv(d, sbuf, c, sd, rbuf, rc, rd, REC);
-    free(sbuf), free(out), free(dest), free(c);
+    free(sbuf), free(c);
     *stay = w;
     *got = r;
     return rbuf;
@@ -276,9 +291,8 @@ static double *ghosts(psim_sim *e, size_t m, size_t *got)
     memset(d->scnt, 0, (size_t)n * sizeof *d->scnt);
     /* the particles near the domain's sides (few), then their ranks */
     const rect own = own_rect(&d->cuts);
-    uint32_t *near = malloc((m ? m : 1) * sizeof *near);
-    if (!near)
-        out_of_memory("the ghosts");
+    pick_room(d, m);
+    uint32_t *near = d->pick;
     size_t nn = 0, ns = 0;
     for (size_t k = 0; k < m; k++)
         if (!deep_inside(&own, st->x[k], st->y[k], d->h))
@@ -306,7 +320,6 @@ static double *ghosts(psim_sim *e, size_t m, size_t *got)
             }
         }
     }
-    free(near);
     d->nsend = ns;
     double *sbuf = malloc((ns ? ns : 1) * REC * sizeof *sbuf);
     if (!sbuf)
@@ -385,6 +398,17 @@ static void exchange(psim_sim *e)
     d->recut = most > DIST_RECUT * (double)e->n_all / R() + 1;
 }
 
+/* A buffer of n doubles kept in *p (room for *cap), grown when short. */
+static double *keep_room(double **p, size_t *cap, size_t n, const char *what)
+{
+    if (n > *cap) {
+        size_t c = n + n / 4 + 64;
+        *p = grow(*p, c * sizeof **p, what);
+        *cap = c;
+    }
+    return *p;
+}
+
 /* The ghosts' fields from their owners. */
 static void update(psim_sim *e)
 {
@@ -393,10 +417,8 @@ static void update(psim_sim *e)
     const unsigned f = d->halo.fields;
     const int k = fields_of(f);
     double *const col[4] = {st->x, st->y, st->vx, st->vy};
-    double *s = malloc((d->nsend ? d->nsend : 1) * (size_t)k * sizeof *s);
-    double *r = malloc((d->nrecv ? d->nrecv : 1) * (size_t)k * sizeof *r);
-    if (!s || !r)
-        out_of_memory("the ghosts");
+    double *s = keep_room(&d->usend, &d->usend_cap, d->nsend * (size_t)k, "the ghosts");
+    double *r = keep_room(&d->urecv, &d->urecv_cap, d->nrecv * (size_t)k, "the ghosts");
     for (size_t i = 0; i < d->nsend; i++)
         for (int c = 0, o = 0; c < 4; c++)
             if (f & (1u << c))
@@ -406,7 +428,6 @@ static void update(psim_sim *e)
         for (int c = 0, o = 0; c < 4; c++)
             if (f & (1u << c))
                 col[c][d->recv_slot[i]] = r[i * (size_t)k + (size_t)o++];
-    free(s), free(r);
 }
 
 int psim_dist_attach(psim_sim *e, const psim_scene *sc, psim_error *err)
@@ -484,6 +505,7 @@ void psim_dist_detach(psim_sim *e)
     dist_cuts_free(&d->cuts);
     free(d->scnt), free(d->send_id), free(d->recv_id), free(d->send_slot), free(d->recv_slot);
     free(d->ghost), free(d->x0), free(d->y0), free(d->from), free(d->where), free(d->ghost2);
+    free(d->usend), free(d->urecv), free(d->pick), free(d->dest);
     free(d);
     e->dist = NULL;
     e->st.from = NULL;
@@ -572,24 +594,15 @@ void psim_engine_reduce(psim_sim *e, double *sum, int nsum, double *least, int n
 
 int psim_dist_finite(const psim_sim *e, psim_error *err)
 {
-    const psim_dist *d = e->dist;
     const psim_store *s = &e->st;
-    size_t bad = s->n;
-    for (size_t k = 0; k < s->n; k++)
-        if (!d->ghost[k] &&
-            !(fabs(s->x[k]) <= DBL_MAX && fabs(s->y[k]) <= DBL_MAX &&
-              fabs(s->vx[k]) <= DBL_MAX && fabs(s->vy[k]) <= DBL_MAX) &&
-            (bad == s->n || s->id[k] < s->id[bad]))
-            bad = k;
+    size_t bad = psim_engine_not_finite(e, e->dist->ghost);
     /* the least id not finite over the ranks; its owner names it */
     double v = bad < s->n ? -(double)s->id[bad] : -INFINITY;
     MPI_Allreduce(MPI_IN_PLACE, &v, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
     if (v == -INFINITY)
         return 0;
     if (bad < s->n && -(double)s->id[bad] == v)
-        psim_error_set(err, "step %ld: disk %d is no longer finite (x %g, y %g, vx %g, vy %g): "
-                            "the numbers overflowed, so no state is written",
-                       e->step, s->id[bad], s->x[bad], s->y[bad], s->vx[bad], s->vy[bad]);
+        psim_engine_not_finite_error(e, bad, err);
     else
         psim_error_set(err, "%s", "");
     return -1;
