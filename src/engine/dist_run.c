@@ -46,6 +46,10 @@ typedef struct psim_dist {
     size_t cap;
     double *usend, *urecv;    /* the ghosts' fields in an update, kept (grow only) */
     size_t usend_cap, urecv_cap;
+    MPI_Request *ureq;        /* an update's sends and receives in flight */
+    int nureq, upending;
+    MPI_Datatype utype;       /* a ghost's fields */
+    int utype_k;
     uint32_t *pick;           /* an exchange's places: leavers, then those near a side */
     int *dest;                /* the leavers' ranks */
     size_t pick_cap;
@@ -409,8 +413,10 @@ static double *keep_room(double **p, size_t *cap, size_t n, const char *what)
     return *p;
 }
 
-/* The ghosts' fields from their owners. */
-static void update(psim_sim *e)
+/* The ghosts' fields from their owners: sent, and the receives posted
+ * (one message to and from each neighbour); update_finish waits for them
+ * and puts them in place. */
+static void update_start(psim_sim *e)
 {
     psim_dist *d = e->dist;
     psim_store *st = &e->st;
@@ -419,15 +425,71 @@ static void update(psim_sim *e)
     double *const col[4] = {st->x, st->y, st->vx, st->vy};
     double *s = keep_room(&d->usend, &d->usend_cap, d->nsend * (size_t)k, "the ghosts");
     double *r = keep_room(&d->urecv, &d->urecv_cap, d->nrecv * (size_t)k, "the ghosts");
+    if (!d->ureq) {
+        d->ureq = grow(NULL, 2 * (size_t)R() * sizeof *d->ureq, "the ghosts");
+        /* counts in records of k doubles: an int holds 2^31 of them */
+        MPI_Type_contiguous(k, MPI_DOUBLE, &d->utype);
+        MPI_Type_commit(&d->utype);
+        d->utype_k = k;
+    }
+    d->nureq = 0;
+    for (int q = 0; q < R(); q++)
+        if (d->rcnt[q])
+            MPI_Irecv(r + (size_t)d->rdsp[q] * (size_t)k, d->rcnt[q], d->utype, q, 0,
+                      MPI_COMM_WORLD, &d->ureq[d->nureq++]);
     for (size_t i = 0; i < d->nsend; i++)
         for (int c = 0, o = 0; c < 4; c++)
             if (f & (1u << c))
                 s[i * (size_t)k + (size_t)o++] = col[c][d->send_slot[i]];
-    alltoallv(d, s, d->scnt, d->sdsp, r, d->rcnt, d->rdsp, k);
+    for (int q = 0; q < R(); q++)
+        if (d->scnt[q]) {
+            MPI_Isend(s + (size_t)d->sdsp[q] * (size_t)k, d->scnt[q], d->utype, q, 0,
+                      MPI_COMM_WORLD, &d->ureq[d->nureq++]);
+            d->rs.bytes_sent += (uint64_t)d->scnt[q] * (uint64_t)k * sizeof(double);
+            d->rs.messages_sent++;
+        }
+    d->upending = 1;
+}
+
+static void update_finish(psim_sim *e)
+{
+    psim_dist *d = e->dist;
+    psim_store *st = &e->st;
+    const unsigned f = d->halo.fields;
+    const int k = d->utype_k;
+    double *const col[4] = {st->x, st->y, st->vx, st->vy};
+    const double *r = d->urecv;
+    MPI_Waitall(d->nureq, d->ureq, MPI_STATUSES_IGNORE);
     for (size_t i = 0; i < d->nrecv; i++)
         for (int c = 0, o = 0; c < 4; c++)
             if (f & (1u << c))
                 col[c][d->recv_slot[i]] = r[i * (size_t)k + (size_t)o++];
+    d->upending = 0;
+}
+
+double psim_engine_halo_wait(psim_sim *e)
+{
+    psim_dist *d = e->dist;
+    if (!d || !d->upending)
+        return 0;
+    double t0 = psim_now();
+    update_finish(e);
+    double dt = psim_now() - t0;
+    d->rs.update_s += dt;
+    e->stats.phase_s[d->comm_phase] += dt;
+    return dt;
+}
+
+int psim_engine_halo_pending(const psim_sim *e)
+{
+    return e->dist && e->dist->upending;
+}
+
+size_t psim_engine_ghosts(const psim_sim *e, const uint32_t **place)
+{
+    const psim_dist *d = e->dist;
+    *place = d ? d->recv_slot : NULL;
+    return d ? d->nrecv : 0;
 }
 
 int psim_dist_attach(psim_sim *e, const psim_scene *sc, psim_error *err)
@@ -506,6 +568,9 @@ void psim_dist_detach(psim_sim *e)
     free(d->scnt), free(d->send_id), free(d->recv_id), free(d->send_slot), free(d->recv_slot);
     free(d->ghost), free(d->x0), free(d->y0), free(d->from), free(d->where), free(d->ghost2);
     free(d->usend), free(d->urecv), free(d->pick), free(d->dest);
+    if (d->ureq)
+        MPI_Type_free(&d->utype);
+    free(d->ureq);
     free(d);
     e->dist = NULL;
     e->st.from = NULL;
@@ -518,8 +583,11 @@ int psim_dist_prestep(psim_sim *e, psim_error *err)
     double t0 = psim_now();
     if (d->due)
         exchange(e);
-    else
-        update(e);
+    else {
+        update_start(e);
+        if (!d->halo.waits)
+            update_finish(e);
+    }
     double dt = psim_now() - t0;
     *(d->due ? &d->rs.exchange_s : &d->rs.update_s) += dt;
     d->due = 0;
@@ -557,6 +625,7 @@ void psim_engine_moved(psim_sim *e, double most)
 int psim_dist_poststep(psim_sim *e, int rc, psim_error *err)
 {
     psim_dist *d = e->dist;
+    psim_engine_halo_wait(e);   /* a step that ended before it read the ghosts */
     double t0 = psim_now();
     const int stopped = psim_stop_requested();
     /* the drift: the step's as the model said it (summed), or measured */
@@ -789,5 +858,13 @@ void psim_engine_reduce(psim_sim *e, double *sum, int nsum, double *least, int n
 int psim_dist_finite(const psim_sim *e, psim_error *err) { (void)e, (void)err; return 0; }
 double psim_engine_drift(const psim_sim *e) { (void)e; return 0; }
 int psim_engine_ghost(const psim_sim *e, size_t place) { (void)e, (void)place; return 0; }
+int psim_engine_halo_pending(const psim_sim *e) { (void)e; return 0; }
+double psim_engine_halo_wait(psim_sim *e) { (void)e; return 0; }
+size_t psim_engine_ghosts(const psim_sim *e, const uint32_t **place)
+{
+    (void)e;
+    *place = NULL;
+    return 0;
+}
 
 #endif

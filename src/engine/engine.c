@@ -453,6 +453,7 @@ __attribute__((noinline)) static void phase_sort(psim_sim *e)
 
 void psim_engine_sort(psim_sim *e)
 {
+    psim_engine_halo_wait(e);   /* the ghosts' fields land in their places first */
     if (e->restart_order)
         psim_engine_restart_order(e);
     if (e->has_grid)

@@ -129,6 +129,12 @@ typedef struct ftile {
     int lost;               /* a particle left the box for good */
     int oom;
     int crowded;            /* the build passed FORCE_LIST_BUDGET */
+    /* over ranks, since the build: */
+    uint8_t inner;          /* neither it nor a tile its lists reach holds
+                             * a ghost: its forces read no ghost */
+    uint8_t early;          /* it and its sources are inner: its sums and
+                             * moves need no ghost, and no force that
+                             * does reads its positions */
 } ftile;
 
 /* The accelerations of the tile being summed and moved, and how many
