@@ -135,6 +135,8 @@ typedef struct ftile {
     uint8_t early;          /* it and its sources are inner: its sums and
                              * moves need no ghost, and no force that
                              * does reads its positions */
+    uint8_t lead;           /* early, or a source of an early tile: the
+                             * one-thread sweep's forces before the wait */
 } ftile;
 
 /* The accelerations of the tile being summed and moved, and how many
@@ -194,6 +196,7 @@ typedef struct fmodel {
     ftile *tiles;
     uint32_t ntiles, cap_tiles;
     uint32_t *sweep;        /* the tiles row by row of the tile grid */
+    uint32_t nlead;         /* over ranks, since the build: tiles that lead */
     int sweep_row;          /* tiles a row */
     fpool *acc;             /* the tasks' sets of accelerations */
     /* --force-stats (the older edition's), over the steps so far */

@@ -753,6 +753,16 @@ static inline int in_part(const ftile *t, int part, int force)
     return part == PART_ALL || (part == PART_INNER) == (inner != 0);
 }
 
+/* The same in the one-thread sweep, whose part 1 runs only the forces
+ * that early tiles' sums need (ftile.lead): another inner tile's force
+ * there would be far from its sums and moves in part 2, out of the cache
+ * the sweep keeps them in. */
+static inline int in_sweep_part(const ftile *t, int part, int force)
+{
+    int inner = force ? t->lead : t->early;
+    return part == PART_ALL || (part == PART_INNER) == (inner != 0);
+}
+
 /* After a build over ranks: which tiles are inner and early (ftile), from
  * the ghosts' places (tiles are runs of places in tile order). */
 static void tiles_inner(const psim_sim *e, fmodel *m)
@@ -788,6 +798,14 @@ static void tiles_inner(const psim_sim *e, fmodel *m)
         for (int k = 0; k < 5; k++)
             in &= m->tiles[t].src[k] < 0 || m->tiles[m->tiles[t].src[k]].inner;
         m->tiles[t].early = (uint8_t)in;
+    }
+    m->nlead = 0;
+    for (uint32_t t = 0; t < m->ntiles; t++) {
+        int lead = m->tiles[t].early;
+        for (int k = 0; k < 5; k++)   /* its lists reach the tiles it is a source of */
+            lead |= m->tiles[t].fwd[k] >= 0 && m->tiles[m->tiles[t].fwd[k]].early;
+        m->tiles[t].lead = (uint8_t)lead;
+        m->nlead += (uint32_t)lead;
     }
 }
 
@@ -840,19 +858,20 @@ static void run_round(const fmodel *m, psim_store *s, psim_thread_stats *ts, til
  * sources' forces are all done once its east neighbour's is), and the
  * row's last tile's: the positions the forces have just read are still
  * in the cache when they move (1e6 particles: forces and moves 11% less
- * than in two rounds).  Only part `part`'s work: a tile's integrate in
- * part 1 needs only forces of part 1, and no later force reads its
- * positions (ftile.early), so the two parts' sweeps keep the order. */
+ * than in two rounds).  Only part `part`'s work (in_sweep_part): a
+ * tile's integrate in part 1 needs only forces of part 1, and no later
+ * force reads its positions (ftile.early, ftile.lead), so the two parts'
+ * sweeps keep the order. */
 static void run_sweep(const fmodel *m, psim_store *s, psim_thread_stats *ts, int part)
 {
     const uint32_t row = (uint32_t)m->sweep_row;
     for (uint32_t k = 0; k < m->ntiles; k++) {
         ftile *t = &m->tiles[m->sweep[k]], *w = k % row > 0 ? &m->tiles[m->sweep[k - 1]] : NULL;
-        if (in_part(t, part, 1))
+        if (in_sweep_part(t, part, 1))
             tile_timed(m, s, ts, tile_force, FPHASE_FORCE, 1, t);
-        if (w && in_part(w, part, 0))
+        if (w && in_sweep_part(w, part, 0))
             tile_timed(m, s, ts, tile_integrate, FPHASE_INTEGRATE, 1, w);
-        if (k % row == row - 1 && in_part(t, part, 0))
+        if (k % row == row - 1 && in_sweep_part(t, part, 0))
             tile_timed(m, s, ts, tile_integrate, FPHASE_INTEGRATE, 1, t);
     }
 }
@@ -868,6 +887,8 @@ static void run_step(psim_sim *e, const fmodel *m, psim_store *s, psim_thread_st
                      int graph, int split, double *waited)
 {
     if (!graph) {
+        if (split && !m->nlead)   /* nothing to do before the ghosts */
+            *waited = psim_engine_halo_wait(e), split = 0;
         run_sweep(m, s, ts, split ? PART_INNER : PART_ALL);
         if (split) {
             *waited = psim_engine_halo_wait(e);
