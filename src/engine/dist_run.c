@@ -35,6 +35,11 @@ typedef struct psim_dist {
     double moved;             /* this step's, as the model said (psim_engine_moved) */
     int said;                 /* the model said it this step */
     int says;                 /* the model says it every step (it did once) */
+    double path[2];           /* the two longest paths of the rank's own
+                               * particles since the exchange, as the model
+                               * said them this step (pathed) */
+    int pathed;
+    double *gathered;         /* each rank's figures at a step's end */
     int *scnt, *sdsp, *rcnt, *rdsp;   /* ghosts to / from each rank */
     int32_t *send_id, *recv_id;
     uint32_t *send_slot, *recv_slot;
@@ -546,6 +551,7 @@ int psim_dist_ready(psim_sim *e, psim_error *err)
     psim_dist *d = e->dist;
     e->model->halo(e, e->mstate, &d->halo);
     d->h = d->halo.reach + d->halo.skin;
+    d->gathered = grow(d->gathered, 5 * (size_t)R() * sizeof *d->gathered, "the ranks' figures");
     /* domains narrower than the halo: most particles would be ghosts
      * somewhere else too */
     double side = e->L / (d->cuts.px > d->cuts.py ? d->cuts.px : d->cuts.py);
@@ -570,7 +576,7 @@ void psim_dist_detach(psim_sim *e)
     free(d->usend), free(d->urecv), free(d->pick), free(d->dest);
     if (d->ureq)
         MPI_Type_free(&d->utype);
-    free(d->ureq);
+    free(d->ureq), free(d->gathered);
     free(d);
     e->dist = NULL;
     e->st.from = NULL;
@@ -612,6 +618,15 @@ static double drift2(const psim_sim *e)
     return m;
 }
 
+void psim_engine_paths(psim_sim *e, double p1, double p2)
+{
+    psim_dist *d = e->dist;
+    if (!d)
+        return;
+    d->path[0] = p1, d->path[1] = p2;
+    d->pathed = 1;
+}
+
 void psim_engine_moved(psim_sim *e, double most)
 {
     psim_dist *d = e->dist;
@@ -628,14 +643,29 @@ int psim_dist_poststep(psim_sim *e, int rc, psim_error *err)
     psim_engine_halo_wait(e);   /* a step that ended before it read the ghosts */
     double t0 = psim_now();
     const int stopped = psim_stop_requested();
-    /* the drift: the step's as the model said it (summed), or measured */
-    double v[3] = {rc && !stopped ? 1 : 0, stopped, rc ? 0 : d->said ? d->moved : drift2(e)};
-    if (v[2] != v[2])
-        v[2] = INFINITY;
+    /* the drift: the step's as the model said it (summed), or measured;
+     * the two longest paths, as the model said them (else none known) */
+    double v[5] = {rc && !stopped ? 1 : 0, stopped, rc ? 0 : d->said ? d->moved : drift2(e),
+                   d->pathed ? d->path[0] : INFINITY, d->pathed ? d->path[1] : INFINITY};
+    for (int k = 2; k < 5; k++)
+        if (v[k] != v[k])
+            v[k] = INFINITY;
+    double *all = d->gathered;
     double t1 = psim_now();
-    MPI_Allreduce(MPI_IN_PLACE, v, 3, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+    MPI_Allgather(v, 5, MPI_DOUBLE, all, 5, MPI_DOUBLE, MPI_COMM_WORLD);
     d->rs.wait_s += psim_now() - t1;
     e->stats.phase_s[d->comm_phase] += psim_now() - t0;
+    double p1 = 0, p2 = 0;   /* the two longest paths over the ranks */
+    for (int q = 0; q < R(); q++) {
+        const double *w = all + 5 * q;
+        for (int k = 0; k < 3; k++)
+            v[k] = w[k] > v[k] ? w[k] : v[k];
+        for (int k = 3; k < 5; k++)
+            if (w[k] > p1)
+                p2 = p1, p1 = w[k];
+            else if (w[k] > p2)
+                p2 = w[k];
+    }
     if (v[0] || v[1]) {
         if (!rc && v[1])
             return psim_engine_stopped(e, err);
@@ -644,8 +674,10 @@ int psim_dist_poststep(psim_sim *e, int rc, psim_error *err)
         return -1;
     }
     d->drift = d->said ? d->drift + v[2] : sqrt(v[2]);
-    d->said = 0, d->moved = 0;
-    d->due = !(2 * d->drift <= d->halo.skin);
+    d->said = 0, d->moved = 0, d->pathed = 0;
+    /* two particles have closed in by at most twice the drift, and by at
+     * most the two longest paths */
+    d->due = !(2 * d->drift <= d->halo.skin) && !(p1 + p2 <= d->halo.skin);
     return 0;
 }
 
@@ -851,6 +883,7 @@ void psim_dist_view_free(psim_sim *v) { (void)v; }
 void psim_dist_reduce_stats(psim_sim *e, psim_rank_stats *per) { (void)e, (void)per; }
 int psim_engine_exchanged(const psim_sim *e) { (void)e; return 0; }
 void psim_engine_moved(psim_sim *e, double most) { (void)e, (void)most; }
+void psim_engine_paths(psim_sim *e, double p1, double p2) { (void)e, (void)p1, (void)p2; }
 void psim_engine_reduce(psim_sim *e, double *sum, int nsum, double *least, int nleast)
 {
     (void)e, (void)sum, (void)nsum, (void)least, (void)nleast;

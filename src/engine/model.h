@@ -222,6 +222,13 @@ size_t psim_engine_ghosts(const struct psim_sim *e, const uint32_t **place);
  * step (a model that says so each step spares the engine a pass over the
  * store to measure it). */
 void psim_engine_moved(struct psim_sim *e, double most);
+/* Over ranks, in a step: the two longest paths (p1 >= p2) of this rank's
+ * own particles since the exchange, bounds on how far each has moved (a
+ * model that tracks them).  Two particles have closed in by at most the
+ * sum of the two longest over the ranks, and by at most twice the drift:
+ * the next exchange comes when both pass the skin (without paths, when
+ * the drift passes half the skin). */
+void psim_engine_paths(struct psim_sim *e, double p1, double p2);
 /* Over ranks, collective (every rank calls it at the same point of the
  * same step): sum[0..nsum) summed and least[0..nleast) the least over
  * the ranks, in place.  One process: nothing. */

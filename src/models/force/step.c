@@ -707,6 +707,27 @@ static void tiles_drift(fmodel *m, const psim_store *s)
         m->closing = all;
 }
 
+/* Over ranks: the two longest paths of the rank's own particles since the
+ * build (the exchange), for the engine's choice of the next exchange: a
+ * fast one's (ffast.d), `slow` for every other, each with the rounding of
+ * its positions (a ghost's own moves are not its owner's: left out). */
+static void owned_paths(psim_sim *e, const fmodel *m)
+{
+    double p1 = m->slow, p2 = m->slow, ulps = force_drift_bound(m) - m->drift;
+    for (uint32_t t = 0; t < m->ntiles; t++)
+        for (size_t k = 0; k < m->tiles[t].nfast; k++) {
+            const ffast *f = &m->tiles[t].fast[k];
+            double d = f->d == f->d ? f->d : INFINITY;   /* NaN: no bound */
+            if (psim_engine_ghost(e, f->q))
+                continue;
+            if (d > p1)
+                p2 = p1, p1 = d;
+            else if (d > p2)
+                p2 = d;
+        }
+    psim_engine_paths(e, p1 + ulps, p2 + ulps);
+}
+
 typedef void (*tile_fn)(const fmodel *m, psim_store *s, ftile *t);
 
 /* Tile ft's fn, timed as phase (its seconds kept in the tile: tf for the
@@ -960,6 +981,8 @@ int force_step_lists(psim_sim *e, fmodel *m)
     int rc = finish(e, m);
     /* the bookkeeping of the moves: timed with them */
     PSIM_TIMED(e, FPHASE_INTEGRATE, tiles_drift(m, s));
+    if (ranks)
+        owned_paths(e, m);
     return rc;
 }
 
