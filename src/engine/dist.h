@@ -14,7 +14,9 @@
  * when some particle has moved more than half the skin since the last
  * exchange (one allreduce a step decides it for every rank); in between,
  * the ghosts' fields (psim_halo.fields) are sent from their owners every
- * step.  The model rebuilds what it derives from the store (lists, its
+ * step, by non-blocking sends and receives started before the step and
+ * waited for by the model where it needs them (psim_halo.waits), else by
+ * the engine before the step.  The model rebuilds what it derives from the store (lists, its
  * sort) after an exchange, and only then (psim_engine_exchanged).
  *
  * Outputs: every rank writes its parts of each file in parallel, at
@@ -38,18 +40,23 @@ struct psim_sim;
 /* What a model needs from the exchange (psim_model.halo): the distance
  * within which particles act on each other, the skin the ghosts reach
  * beyond it (an exchange every time some particle has moved half of it),
- * and the fields of a ghost sent every step. */
+ * and the fields of a ghost sent every step.  waits: the model calls
+ * psim_engine_halo_wait (model.h) in its step before it reads a ghost's
+ * fields, and may work on its other particles while they travel; else
+ * the engine waits for them before the step. */
 enum { PSIM_FIELD_X = 1, PSIM_FIELD_Y = 2, PSIM_FIELD_VX = 4, PSIM_FIELD_VY = 8 };
 typedef struct psim_halo {
     double reach, skin;
     unsigned fields;
+    int waits;
 } psim_halo;
 
 /* Per-rank figures of a run over ranks, for the summary and --stats. */
 typedef struct psim_rank_stats {
     double phase_s[PSIM_PHASES_MAX];
     double comm_s;             /* exchanges, ghost updates and the step's allreduce */
-    double exchange_s, update_s;   /* of which the exchanges, the ghosts' updates */
+    double exchange_s, update_s;   /* of which the exchanges, the ghosts' updates
+                                    * (sending them and waiting for them) */
     double wait_s;             /* and the step's allreduce: waiting for the slowest rank */
     long owned, ghosts;        /* at the end of the run */
     uint64_t bytes_sent, messages_sent;
@@ -94,7 +101,8 @@ void psim_dist_detach(struct psim_sim *e);
 /* Once the model is made: its halo, held to the domains' size.  0, or -1
  * with err set (more ranks than the box can be cut into). */
 int psim_dist_ready(struct psim_sim *e, psim_error *err);
-/* Before a step: the exchange when it is due, else the ghosts' fields. */
+/* Before a step: the exchange when it is due, else the ghosts' fields
+ * (sent, and received unless the model waits for them itself). */
 int psim_dist_prestep(struct psim_sim *e, psim_error *err);
 /* After a step (rc: interact's): the ranks agree on failure and stop and
  * measure the drift since the exchange.  0, or -1 with err set (its

@@ -4,7 +4,6 @@
 #include "dist.h"
 
 #include <errno.h>
-#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -38,6 +37,11 @@ typedef struct psim_dist {
     int says;                 /* the model says it every step (it did once) */
     int unsaid;               /* a step ended without its saying it: the drift
                                * is measured from the positions at the exchange */
+    double path[2];           /* the two longest paths of the rank's own
+                               * particles since the exchange, as the model
+                               * said them this step (pathed) */
+    int pathed;
+    double *gathered;         /* each rank's figures at a step's end */
     int *scnt, *sdsp, *rcnt, *rdsp;   /* ghosts to / from each rank */
     int32_t *send_id, *recv_id;
     uint32_t *send_slot, *recv_slot;
@@ -50,6 +54,15 @@ typedef struct psim_dist {
     uint32_t *from, *where;   /* the sort's permutation (store.from), its inverse */
     uint8_t *ghost2;
     size_t cap;
+    double *usend, *urecv;    /* the ghosts' fields in an update, kept (grow only) */
+    size_t usend_cap, urecv_cap;
+    MPI_Request *ureq;        /* an update's sends and receives in flight */
+    int nureq, upending;
+    MPI_Datatype utype;       /* a ghost's fields */
+    int utype_k;
+    uint32_t *pick;           /* an exchange's places: leavers, then those near a side */
+    int *dest;                /* the leavers' ranks */
+    size_t pick_cap;
     psim_rank_stats rs;
 } psim_dist;
 
@@ -215,6 +228,17 @@ static inline int deep_inside(const rect *r, double x, double y, double h)
     return x - r->x0 > h && r->x1 - x > h && y - r->y0 > h && r->y1 - y > h;
 }
 
+/* Room for n places in the exchange's kept arrays. */
+static void pick_room(psim_dist *d, size_t n)
+{
+    if (n <= d->pick_cap && d->pick)
+        return;
+    size_t c = n + n / 4 + 64;
+    d->pick = grow(d->pick, c * sizeof *d->pick, "an exchange");
+    d->dest = grow(d->dest, c * sizeof *d->dest, "an exchange");
+    d->pick_cap = c;
+}
+
 /* Migration: every owned particle that left this rank's domain goes to
  * the rank that owns its place now; those that stay are moved to the
  * front of the store (places 0..*stay), in their order.  The records
@@ -224,11 +248,11 @@ static double *migrate(psim_sim *e, size_t *stay, size_t *got)
     psim_dist *d = e->dist;
     psim_store *st = &e->st;
     int n = R();
-    size_t most = d->n_own ? d->n_own : 1;
-    uint32_t *out = malloc(most * sizeof *out);
-    int *dest = malloc(most * sizeof *dest);
+    pick_room(d, d->n_own);
+    uint32_t *out = d->pick;
+    int *dest = d->dest;
     int *c = calloc(4 * (size_t)n, sizeof *c);
-    if (!out || !dest || !c)
+    if (!c)
         out_of_memory("an exchange");
     size_t m = 0, w = 0;
     const rect own = own_rect(&d->cuts);
@@ -262,7 +286,7 @@ static double *migrate(psim_sim *e, size_t *stay, size_t *got)
     if (!rbuf)
         out_of_memory("an exchange");
     alltoallv(d, sbuf, c, sd, rbuf, rc, rd, REC);
-    free(sbuf), free(out), free(dest), free(c);
+    free(sbuf), free(c);
     *stay = w;
     *got = r;
     return rbuf;
@@ -279,9 +303,8 @@ static double *ghosts(psim_sim *e, size_t m, size_t *got)
     memset(d->scnt, 0, (size_t)n * sizeof *d->scnt);
     /* the particles near the domain's sides (few), then their ranks */
     const rect own = own_rect(&d->cuts);
-    uint32_t *near = malloc((m ? m : 1) * sizeof *near);
-    if (!near)
-        out_of_memory("the ghosts");
+    pick_room(d, m);
+    uint32_t *near = d->pick;
     size_t nn = 0, ns = 0;
     for (size_t k = 0; k < m; k++)
         if (!deep_inside(&own, st->x[k], st->y[k], d->h))
@@ -309,7 +332,6 @@ static double *ghosts(psim_sim *e, size_t m, size_t *got)
             }
         }
     }
-    free(near);
     d->nsend = ns;
     double *sbuf = malloc((ns ? ns : 1) * REC * sizeof *sbuf);
     if (!sbuf)
@@ -393,28 +415,94 @@ static void exchange(psim_sim *e)
     d->recut = most > DIST_RECUT * (double)e->n_all / R() + 1;
 }
 
-/* The ghosts' fields from their owners. */
-static void update(psim_sim *e)
+/* A buffer of n doubles kept in *p (room for *cap), grown when short. */
+static double *keep_room(double **p, size_t *cap, size_t n, const char *what)
+{
+    if (n > *cap) {
+        size_t c = n + n / 4 + 64;
+        *p = grow(*p, c * sizeof **p, what);
+        *cap = c;
+    }
+    return *p;
+}
+
+/* The ghosts' fields from their owners: sent, and the receives posted
+ * (one message to and from each neighbour); update_finish waits for them
+ * and puts them in place. */
+static void update_start(psim_sim *e)
 {
     psim_dist *d = e->dist;
     psim_store *st = &e->st;
     const unsigned f = d->halo.fields;
     const int k = fields_of(f);
     double *const col[4] = {st->x, st->y, st->vx, st->vy};
-    double *s = malloc((d->nsend ? d->nsend : 1) * (size_t)k * sizeof *s);
-    double *r = malloc((d->nrecv ? d->nrecv : 1) * (size_t)k * sizeof *r);
-    if (!s || !r)
-        out_of_memory("the ghosts");
+    double *s = keep_room(&d->usend, &d->usend_cap, d->nsend * (size_t)k, "the ghosts");
+    double *r = keep_room(&d->urecv, &d->urecv_cap, d->nrecv * (size_t)k, "the ghosts");
+    if (!d->ureq) {
+        d->ureq = grow(NULL, 2 * (size_t)R() * sizeof *d->ureq, "the ghosts");
+        /* counts in records of k doubles: an int holds 2^31 of them */
+        MPI_Type_contiguous(k, MPI_DOUBLE, &d->utype);
+        MPI_Type_commit(&d->utype);
+        d->utype_k = k;
+    }
+    d->nureq = 0;
+    for (int q = 0; q < R(); q++)
+        if (d->rcnt[q])
+            MPI_Irecv(r + (size_t)d->rdsp[q] * (size_t)k, d->rcnt[q], d->utype, q, 0,
+                      MPI_COMM_WORLD, &d->ureq[d->nureq++]);
     for (size_t i = 0; i < d->nsend; i++)
         for (int c = 0, o = 0; c < 4; c++)
             if (f & (1u << c))
                 s[i * (size_t)k + (size_t)o++] = col[c][d->send_slot[i]];
-    alltoallv(d, s, d->scnt, d->sdsp, r, d->rcnt, d->rdsp, k);
+    for (int q = 0; q < R(); q++)
+        if (d->scnt[q]) {
+            MPI_Isend(s + (size_t)d->sdsp[q] * (size_t)k, d->scnt[q], d->utype, q, 0,
+                      MPI_COMM_WORLD, &d->ureq[d->nureq++]);
+            d->rs.bytes_sent += (uint64_t)d->scnt[q] * (uint64_t)k * sizeof(double);
+            d->rs.messages_sent++;
+        }
+    d->upending = 1;
+}
+
+static void update_finish(psim_sim *e)
+{
+    psim_dist *d = e->dist;
+    psim_store *st = &e->st;
+    const unsigned f = d->halo.fields;
+    const int k = d->utype_k;
+    double *const col[4] = {st->x, st->y, st->vx, st->vy};
+    const double *r = d->urecv;
+    MPI_Waitall(d->nureq, d->ureq, MPI_STATUSES_IGNORE);
     for (size_t i = 0; i < d->nrecv; i++)
         for (int c = 0, o = 0; c < 4; c++)
             if (f & (1u << c))
                 col[c][d->recv_slot[i]] = r[i * (size_t)k + (size_t)o++];
-    free(s), free(r);
+    d->upending = 0;
+}
+
+double psim_engine_halo_wait(psim_sim *e)
+{
+    psim_dist *d = e->dist;
+    if (!d || !d->upending)
+        return 0;
+    double t0 = psim_now();
+    update_finish(e);
+    double dt = psim_now() - t0;
+    d->rs.update_s += dt;
+    e->stats.phase_s[d->comm_phase] += dt;
+    return dt;
+}
+
+int psim_engine_halo_pending(const psim_sim *e)
+{
+    return e->dist && e->dist->upending;
+}
+
+size_t psim_engine_ghosts(const psim_sim *e, const uint32_t **place)
+{
+    const psim_dist *d = e->dist;
+    *place = d ? d->recv_slot : NULL;
+    return d ? d->nrecv : 0;
 }
 
 /* The store for a rank's own particles, with a little room for the
@@ -524,6 +612,7 @@ int psim_dist_ready(psim_sim *e, psim_error *err)
     psim_dist *d = e->dist;
     e->model->halo(e, e->mstate, &d->halo);
     d->h = d->halo.reach + d->halo.skin;
+    d->gathered = grow(d->gathered, 5 * (size_t)R() * sizeof *d->gathered, "the ranks' figures");
     /* domains narrower than the halo: most particles would be ghosts
      * somewhere else too */
     double side = e->L / (d->cuts.px > d->cuts.py ? d->cuts.px : d->cuts.py);
@@ -545,6 +634,10 @@ void psim_dist_detach(psim_sim *e)
     dist_cuts_free(&d->cuts);
     free(d->scnt), free(d->send_id), free(d->recv_id), free(d->send_slot), free(d->recv_slot);
     free(d->ghost), free(d->x0), free(d->y0), free(d->from), free(d->where), free(d->ghost2);
+    free(d->usend), free(d->urecv), free(d->pick), free(d->dest);
+    if (d->ureq)
+        MPI_Type_free(&d->utype);
+    free(d->ureq), free(d->gathered);
     free(d);
     e->dist = NULL;
     e->st.from = NULL;
@@ -557,8 +650,11 @@ int psim_dist_prestep(psim_sim *e, psim_error *err)
     double t0 = psim_now();
     if (d->due)
         exchange(e);
-    else
-        update(e);
+    else {
+        update_start(e);
+        if (!d->halo.waits)
+            update_finish(e);
+    }
     double dt = psim_now() - t0;
     *(d->due ? &d->rs.exchange_s : &d->rs.update_s) += dt;
     d->due = 0;
@@ -585,6 +681,15 @@ static double drift2(const psim_sim *e)
     return m;
 }
 
+void psim_engine_paths(psim_sim *e, double p1, double p2)
+{
+    psim_dist *d = e->dist;
+    if (!d)
+        return;
+    d->path[0] = p1, d->path[1] = p2;
+    d->pathed = 1;
+}
+
 void psim_engine_moved(psim_sim *e, double most)
 {
     psim_dist *d = e->dist;
@@ -598,17 +703,33 @@ void psim_engine_moved(psim_sim *e, double most)
 int psim_dist_poststep(psim_sim *e, int rc, psim_error *err)
 {
     psim_dist *d = e->dist;
+    psim_engine_halo_wait(e);   /* a step that ended before it read the ghosts */
     double t0 = psim_now();
     const int stopped = psim_stop_requested();
-    /* the drift: the step's as the model said it (summed), or measured */
+    /* the drift: the step's as the model said it (summed), or measured;
+     * the two longest paths, as the model said them (else none known) */
     d->unsaid |= !d->said;
-    double v[3] = {rc && !stopped ? 1 : 0, stopped, rc ? 0 : d->said ? d->moved : drift2(e)};
-    if (v[2] != v[2])
-        v[2] = INFINITY;
+    double v[5] = {rc && !stopped ? 1 : 0, stopped, rc ? 0 : d->said ? d->moved : drift2(e),
+                   d->pathed ? d->path[0] : INFINITY, d->pathed ? d->path[1] : INFINITY};
+    for (int k = 2; k < 5; k++)
+        if (v[k] != v[k])
+            v[k] = INFINITY;
+    double *all = d->gathered;
     double t1 = psim_now();
-    MPI_Allreduce(MPI_IN_PLACE, v, 3, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+    MPI_Allgather(v, 5, MPI_DOUBLE, all, 5, MPI_DOUBLE, MPI_COMM_WORLD);
     d->rs.wait_s += psim_now() - t1;
     e->stats.phase_s[d->comm_phase] += psim_now() - t0;
+    double p1 = 0, p2 = 0;   /* the two longest paths over the ranks */
+    for (int q = 0; q < R(); q++) {
+        const double *w = all + 5 * q;
+        for (int k = 0; k < 3; k++)
+            v[k] = w[k] > v[k] ? w[k] : v[k];
+        for (int k = 3; k < 5; k++)
+            if (w[k] > p1)
+                p2 = p1, p1 = w[k];
+            else if (w[k] > p2)
+                p2 = w[k];
+    }
     if (v[0] || v[1]) {
         if (!rc && v[1])
             return psim_engine_stopped(e, err);
@@ -621,8 +742,10 @@ int psim_dist_poststep(psim_sim *e, int rc, psim_error *err)
         free(d->x0), free(d->y0);
         d->x0 = d->y0 = NULL, d->cap0 = 0;
     }
-    d->said = 0, d->moved = 0;
-    d->due = !(2 * d->drift <= d->halo.skin);
+    d->said = 0, d->moved = 0, d->pathed = 0;
+    /* two particles have closed in by at most twice the drift, and by at
+     * most the two longest paths */
+    d->due = !(2 * d->drift <= d->halo.skin) && !(p1 + p2 <= d->halo.skin);
     return 0;
 }
 
@@ -640,24 +763,15 @@ void psim_engine_reduce(psim_sim *e, double *sum, int nsum, double *least, int n
 
 int psim_dist_finite(const psim_sim *e, psim_error *err)
 {
-    const psim_dist *d = e->dist;
     const psim_store *s = &e->st;
-    size_t bad = s->n;
-    for (size_t k = 0; k < s->n; k++)
-        if (!d->ghost[k] &&
-            !(fabs(s->x[k]) <= DBL_MAX && fabs(s->y[k]) <= DBL_MAX &&
-              fabs(s->vx[k]) <= DBL_MAX && fabs(s->vy[k]) <= DBL_MAX) &&
-            (bad == s->n || s->id[k] < s->id[bad]))
-            bad = k;
+    size_t bad = psim_engine_not_finite(e, e->dist->ghost);
     /* the least id not finite over the ranks; its owner names it */
     double v = bad < s->n ? -(double)s->id[bad] : -INFINITY;
     MPI_Allreduce(MPI_IN_PLACE, &v, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
     if (v == -INFINITY)
         return 0;
     if (bad < s->n && -(double)s->id[bad] == v)
-        psim_error_set(err, "step %ld: disk %d is no longer finite (x %g, y %g, vx %g, vy %g): "
-                            "the numbers overflowed, so no state is written",
-                       e->step, s->id[bad], s->x[bad], s->y[bad], s->vx[bad], s->vy[bad]);
+        psim_engine_not_finite_error(e, bad, err);
     else
         psim_error_set(err, "%s", "");
     return -1;
@@ -761,6 +875,7 @@ void psim_dist_sorted(psim_sim *e) { (void)e; }
 void psim_dist_reduce_stats(psim_sim *e, psim_rank_stats *per) { (void)e, (void)per; }
 int psim_engine_exchanged(const psim_sim *e) { (void)e; return 0; }
 void psim_engine_moved(psim_sim *e, double most) { (void)e, (void)most; }
+void psim_engine_paths(psim_sim *e, double p1, double p2) { (void)e, (void)p1, (void)p2; }
 void psim_engine_reduce(psim_sim *e, double *sum, int nsum, double *least, int nleast)
 {
     (void)e, (void)sum, (void)nsum, (void)least, (void)nleast;
@@ -768,5 +883,13 @@ void psim_engine_reduce(psim_sim *e, double *sum, int nsum, double *least, int n
 int psim_dist_finite(const psim_sim *e, psim_error *err) { (void)e, (void)err; return 0; }
 double psim_engine_drift(const psim_sim *e) { (void)e; return 0; }
 int psim_engine_ghost(const psim_sim *e, size_t place) { (void)e, (void)place; return 0; }
+int psim_engine_halo_pending(const psim_sim *e) { (void)e; return 0; }
+double psim_engine_halo_wait(psim_sim *e) { (void)e; return 0; }
+size_t psim_engine_ghosts(const psim_sim *e, const uint32_t **place)
+{
+    (void)e;
+    *place = NULL;
+    return 0;
+}
 
 #endif

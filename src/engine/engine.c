@@ -456,6 +456,7 @@ __attribute__((noinline)) static void phase_sort(psim_sim *e)
 
 void psim_engine_sort(psim_sim *e)
 {
+    psim_engine_halo_wait(e);   /* the ghosts' fields land in their places first */
     if (e->restart_order)
         psim_engine_restart_order(e);
     if (e->has_grid)
@@ -507,22 +508,35 @@ int psim_step(psim_sim *e, psim_error *err)
     return 0;
 }
 
+size_t psim_engine_not_finite(const psim_sim *e, const uint8_t *skip)
+{
+    const psim_store *s = &e->st;
+    size_t bad = s->n;
+    for (size_t k = 0; k < s->n; k++)
+        if (!(skip && skip[k]) &&
+            !(fabs(s->x[k]) <= DBL_MAX && fabs(s->y[k]) <= DBL_MAX &&
+              fabs(s->vx[k]) <= DBL_MAX && fabs(s->vy[k]) <= DBL_MAX) &&
+            (bad == s->n || s->id[k] < s->id[bad]))
+            bad = k;
+    return bad;
+}
+
+void psim_engine_not_finite_error(const psim_sim *e, size_t place, psim_error *err)
+{
+    const psim_store *s = &e->st;
+    psim_error_set(err, "step %ld: disk %d is no longer finite (x %g, y %g, vx %g, vy %g): "
+                        "the numbers overflowed, so no state is written",
+                   e->step, s->id[place], s->x[place], s->y[place], s->vx[place], s->vy[place]);
+}
+
 int psim_state_finite(const psim_sim *e, psim_error *err)
 {
     if (e->dist)   /* every rank's, together */
         return psim_dist_finite(e, err);
-    const psim_store *s = &e->st;
-    size_t bad = s->n;
-    for (size_t k = 0; k < s->n; k++)
-        if (!(fabs(s->x[k]) <= DBL_MAX && fabs(s->y[k]) <= DBL_MAX &&
-              fabs(s->vx[k]) <= DBL_MAX && fabs(s->vy[k]) <= DBL_MAX) &&
-            (bad == s->n || s->id[k] < s->id[bad]))
-            bad = k;
-    if (bad == s->n)
+    size_t bad = psim_engine_not_finite(e, NULL);
+    if (bad == e->st.n)
         return 0;
-    psim_error_set(err, "step %ld: disk %d is no longer finite (x %g, y %g, vx %g, vy %g): "
-                        "the numbers overflowed, so no state is written",
-                   e->step, s->id[bad], s->x[bad], s->y[bad], s->vx[bad], s->vy[bad]);
+    psim_engine_not_finite_error(e, bad, err);
     return -1;
 }
 

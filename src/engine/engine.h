@@ -67,6 +67,12 @@ void psim_engine_restart_order(struct psim_sim *e);
  * the domains were cut again).  0, or -1 (no memory). */
 int psim_engine_regrid(struct psim_sim *e);
 
+/* The store place of the least id whose x, y, vx or vy is not finite,
+ * leaving out the places k where skip[k] is set (skip NULL: none), or
+ * the store's n if none; and the message naming it (engine.c). */
+size_t psim_engine_not_finite(const struct psim_sim *e, const uint8_t *skip);
+void psim_engine_not_finite_error(const struct psim_sim *e, size_t place, psim_error *err);
+
 /* limits.c: the scene against the model's limits (model.h): 0, or -1
  * with err naming the line of L, r or the disk and what is too large. */
 int psim_engine_limits(const struct psim_sim *e, const psim_scene *sc, psim_error *err);

@@ -211,10 +211,26 @@ int psim_engine_ranks(const struct psim_sim *e);
 int psim_engine_exchanged(const struct psim_sim *e);
 double psim_engine_drift(const struct psim_sim *e);
 int psim_engine_ghost(const struct psim_sim *e, size_t place);
+/* Over ranks, for a model whose halo waits (dist.h): whether the ghosts'
+ * fields of this step are still on their way; wait for them (from the
+ * main thread, outside parallel regions: MPI calls are funneled),
+ * returning the seconds waited (nothing where none are on their way; the
+ * engine times them as its comm phase); the store places of the ghosts,
+ * *place[0..n), as the last exchange and sort left them. */
+int psim_engine_halo_pending(const struct psim_sim *e);
+double psim_engine_halo_wait(struct psim_sim *e);
+size_t psim_engine_ghosts(const struct psim_sim *e, const uint32_t **place);
 /* Over ranks: every particle of the store moved at most `most` in this
  * step (a model that says so each step spares the engine a pass over the
  * store to measure it). */
 void psim_engine_moved(struct psim_sim *e, double most);
+/* Over ranks, in a step: the two longest paths (p1 >= p2) of this rank's
+ * own particles since the exchange, bounds on how far each has moved (a
+ * model that tracks them).  Two particles have closed in by at most the
+ * sum of the two longest over the ranks, and by at most twice the drift:
+ * the next exchange comes when both pass the skin (without paths, when
+ * the drift passes half the skin). */
+void psim_engine_paths(struct psim_sim *e, double p1, double p2);
 /* Over ranks, collective (every rank calls it at the same point of the
  * same step): sum[0..nsum) summed and least[0..nleast) the least over
  * the ranks, in place.  One process: nothing. */

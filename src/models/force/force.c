@@ -425,7 +425,8 @@ static int halo(const psim_sim *e, const void *p, psim_halo *h)
 {
     (void)e;
     const fmodel *m = p;
-    *h = (psim_halo){m->law.cutoff, m->skin, PSIM_FIELD_X | PSIM_FIELD_Y};
+    /* waits: the tiles that read no ghost run while the ghosts travel (step.c) */
+    *h = (psim_halo){m->law.cutoff, m->skin, PSIM_FIELD_X | PSIM_FIELD_Y, 1};
     return 0;
 }
 

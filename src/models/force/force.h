@@ -129,6 +129,14 @@ typedef struct ftile {
     int lost;               /* a particle left the box for good */
     int oom;
     int crowded;            /* the build passed FORCE_LIST_BUDGET */
+    /* over ranks, since the build: */
+    uint8_t inner;          /* neither it nor a tile its lists reach holds
+                             * a ghost: its forces read no ghost */
+    uint8_t early;          /* it and its sources are inner: its sums and
+                             * moves need no ghost, and no force that
+                             * does reads its positions */
+    uint8_t lead;           /* early, or a source of an early tile: the
+                             * one-thread sweep's forces before the wait */
 } ftile;
 
 /* The accelerations of the tile being summed and moved, and how many
@@ -188,6 +196,7 @@ typedef struct fmodel {
     ftile *tiles;
     uint32_t ntiles, cap_tiles;
     uint32_t *sweep;        /* the tiles row by row of the tile grid */
+    uint32_t nlead;         /* over ranks, since the build: tiles that lead */
     int sweep_row;          /* tiles a row */
     fpool *acc;             /* the tasks' sets of accelerations */
     /* --force-stats (the older edition's), over the steps so far */

@@ -707,6 +707,27 @@ static void tiles_drift(fmodel *m, const psim_store *s)
         m->closing = all;
 }
 
+/* Over ranks: the two longest paths of the rank's own particles since the
+ * build (the exchange), for the engine's choice of the next exchange: a
+ * fast one's (ffast.d), `slow` for every other, each with the rounding of
+ * its positions (a ghost's own moves are not its owner's: left out). */
+static void owned_paths(psim_sim *e, const fmodel *m)
+{
+    double p1 = m->slow, p2 = m->slow, ulps = force_drift_bound(m) - m->drift;
+    for (uint32_t t = 0; t < m->ntiles; t++)
+        for (size_t k = 0; k < m->tiles[t].nfast; k++) {
+            const ffast *f = &m->tiles[t].fast[k];
+            double d = f->d == f->d ? f->d : INFINITY;   /* NaN: no bound */
+            if (psim_engine_ghost(e, f->q))
+                continue;
+            if (d > p1)
+                p2 = p1, p1 = d;
+            else if (d > p2)
+                p2 = d;
+        }
+    psim_engine_paths(e, p1 + ulps, p2 + ulps);
+}
+
 typedef void (*tile_fn)(const fmodel *m, psim_store *s, ftile *t);
 
 /* Tile ft's fn, timed as phase (its seconds kept in the tile: tf for the
@@ -742,6 +763,73 @@ PSIM_TASK_SPAWN static void task_spawn_tile(const fmodel *m, psim_store *s, psim
     tile_timed(m, s, ts, fn, phase, region, ft);
 }
 
+/* Over ranks, while the ghosts' positions travel, a step does first the
+ * work that reads none (part 1), then waits for them and does the rest
+ * (part 2); part 0 is the whole step.  Whether tile t's force (force) or
+ * its sums and moves (!force) belong to part `part`. */
+enum { PART_ALL, PART_INNER, PART_REST };
+static inline int in_part(const ftile *t, int part, int force)
+{
+    int inner = force ? t->inner : t->early;
+    return part == PART_ALL || (part == PART_INNER) == (inner != 0);
+}
+
+/* The same in the one-thread sweep, whose part 1 runs only the forces
+ * that early tiles' sums need (ftile.lead): another inner tile's force
+ * there would be far from its sums and moves in part 2, out of the cache
+ * the sweep keeps them in. */
+static inline int in_sweep_part(const ftile *t, int part, int force)
+{
+    int inner = force ? t->lead : t->early;
+    return part == PART_ALL || (part == PART_INNER) == (inner != 0);
+}
+
+/* After a build over ranks: which tiles are inner and early (ftile), from
+ * the ghosts' places (tiles are runs of places in tile order). */
+static void tiles_inner(const psim_sim *e, fmodel *m)
+{
+    const uint32_t *g;
+    size_t ng = psim_engine_ghosts(e, &g);
+    for (uint32_t t = 0; t < m->ntiles; t++)
+        m->tiles[t].early = 0;   /* here: holds a ghost */
+    for (size_t k = 0; k < ng; k++) {
+        uint32_t lo = 0, hi = m->ntiles;   /* the last tile starting at or before g[k] */
+        while (hi - lo > 1) {
+            uint32_t mid = lo + (hi - lo) / 2;
+            if (m->tiles[mid].first <= g[k])
+                lo = mid;
+            else
+                hi = mid;
+        }
+        ftile *ft = &m->tiles[lo];
+        if (m->ntiles && g[k] - ft->first < ft->n)
+            ft->early = 1;
+        else   /* outside every tile: no tile runs early */
+            for (uint32_t t = 0; t < m->ntiles; t++)
+                m->tiles[t].early = 1;
+    }
+    for (uint32_t t = 0; t < m->ntiles; t++) {
+        int in = !m->tiles[t].early;
+        for (int k = 0; k < 5; k++)
+            in &= m->tiles[t].fwd[k] < 0 || !m->tiles[m->tiles[t].fwd[k]].early;
+        m->tiles[t].inner = (uint8_t)in;
+    }
+    for (uint32_t t = 0; t < m->ntiles; t++) {
+        int in = m->tiles[t].inner;
+        for (int k = 0; k < 5; k++)
+            in &= m->tiles[t].src[k] < 0 || m->tiles[m->tiles[t].src[k]].inner;
+        m->tiles[t].early = (uint8_t)in;
+    }
+    m->nlead = 0;
+    for (uint32_t t = 0; t < m->ntiles; t++) {
+        int lead = m->tiles[t].early;
+        for (int k = 0; k < 5; k++)   /* its lists reach the tiles it is a source of */
+            lead |= m->tiles[t].fwd[k] >= 0 && m->tiles[m->tiles[t].fwd[k]].early;
+        m->tiles[t].lead = (uint8_t)lead;
+        m->nlead += (uint32_t)lead;
+    }
+}
+
 /* One task per tile running fn, timed as phase, each a region of its own
  * if region; returns when all are done (called inside a parallel region's
  * single). */
@@ -753,6 +841,14 @@ static void run_tiles(const fmodel *m, psim_store *s, psim_thread_stats *ts, til
 #pragma omp taskwait
 }
 
+/* The tasks of the forces of part `part`'s tiles, not waited for. */
+static void spawn_forces(const fmodel *m, psim_store *s, psim_thread_stats *ts, int part)
+{
+    for (uint32_t t = 0; t < m->ntiles; t++)
+        if (in_part(&m->tiles[t], part, 1))
+            task_spawn_tile(m, s, ts, tile_force, FPHASE_FORCE, 1, 1, &m->tiles[t]);
+}
+
 /* A round of fn over every tile as a loop shared by the team (called by
  * every thread of a parallel region; its end is the round's barrier).
  * The tiles of a round do not depend on each other, so a loop gives what
@@ -760,47 +856,75 @@ static void run_tiles(const fmodel *m, psim_store *s, psim_thread_stats *ts, til
  * at 8 and 16 threads, 1e5 particles, 1.7-2x faster (docs/performance.md,
  * "Rounds as loops on many threads").  Static: each thread keeps its tiles, and their
  * particles in its cache, from round to round and step to step; dynamic:
- * the threads share the tiles as they come. */
+ * the threads share the tiles as they come.  Only part `part`'s tiles. */
 static void run_round(const fmodel *m, psim_store *s, psim_thread_stats *ts, tile_fn fn,
-                      int phase)
+                      int phase, int part)
 {
+    const int force = fn == tile_force;
     if (m->rounds == FORCE_ROUNDS_STATIC) {
 #pragma omp for schedule(static)
         for (uint32_t t = 0; t < m->ntiles; t++)
-            tile_timed(m, s, ts, fn, phase, 0, &m->tiles[t]);
+            if (in_part(&m->tiles[t], part, force))
+                tile_timed(m, s, ts, fn, phase, 0, &m->tiles[t]);
     } else {
 #pragma omp for schedule(dynamic, 1)
         for (uint32_t t = 0; t < m->ntiles; t++)
-            tile_timed(m, s, ts, fn, phase, 0, &m->tiles[t]);
+            if (in_part(&m->tiles[t], part, force))
+                tile_timed(m, s, ts, fn, phase, 0, &m->tiles[t]);
     }
 }
 
-/* The step's tasks, each tile a region of its own.  One thread: a sweep
- * row by row of the tile grid, each tile's force, then the integrate of
- * the tile to its west (whose sources' forces are all done once its east
- * neighbour's is), and the row's last tile's: the positions the forces
- * have just read are still in the cache when they move (1e6 particles:
- * forces and moves 11% less than in two rounds).  Threads: two rounds,
- * every force, then every integrate (the same work as dependencies of the
- * sweep cost 7-10% more at 1e5 particles, some 32 tasks a step:
- * docs/performance.md). */
-static void run_step(const fmodel *m, psim_store *s, psim_thread_stats *ts, int graph)
+/* One thread (or one tile): a sweep row by row of the tile grid, each
+ * tile's force, then the integrate of the tile to its west (whose
+ * sources' forces are all done once its east neighbour's is), and the
+ * row's last tile's: the positions the forces have just read are still
+ * in the cache when they move (1e6 particles: forces and moves 11% less
+ * than in two rounds).  Only part `part`'s work (in_sweep_part): a
+ * tile's integrate in part 1 needs only forces of part 1, and no later
+ * force reads its positions (ftile.early, ftile.lead), so the two parts'
+ * sweeps keep the order. */
+static void run_sweep(const fmodel *m, psim_store *s, psim_thread_stats *ts, int part)
 {
     const uint32_t row = (uint32_t)m->sweep_row;
-    if (graph) {
-        run_tiles(m, s, ts, tile_force, FPHASE_FORCE, 1, graph);
-        run_tiles(m, s, ts, tile_integrate, FPHASE_INTEGRATE, 1, graph);
+    for (uint32_t k = 0; k < m->ntiles; k++) {
+        ftile *t = &m->tiles[m->sweep[k]], *w = k % row > 0 ? &m->tiles[m->sweep[k - 1]] : NULL;
+        if (in_sweep_part(t, part, 1))
+            tile_timed(m, s, ts, tile_force, FPHASE_FORCE, 1, t);
+        if (w && in_sweep_part(w, part, 0))
+            tile_timed(m, s, ts, tile_integrate, FPHASE_INTEGRATE, 1, w);
+        if (k % row == row - 1 && in_sweep_part(t, part, 0))
+            tile_timed(m, s, ts, tile_integrate, FPHASE_INTEGRATE, 1, t);
+    }
+}
+
+/* The step's tasks, each tile a region of its own: one thread, the sweep
+ * (run_sweep); threads: two rounds, every force, then every integrate
+ * (the same work as dependencies of the sweep cost 7-10% more at 1e5
+ * particles, some 32 tasks a step: docs/performance.md).  split: the
+ * ghosts' positions are on their way; the forces that read none first,
+ * the wait (in the main thread: MPI calls are funneled), then the rest;
+ * the seconds waited to *waited.  Called by the team's main thread. */
+static void run_step(psim_sim *e, const fmodel *m, psim_store *s, psim_thread_stats *ts,
+                     int graph, int split, double *waited)
+{
+    if (!graph) {
+        if (split && !m->nlead)   /* nothing to do before the ghosts */
+            *waited = psim_engine_halo_wait(e), split = 0;
+        run_sweep(m, s, ts, split ? PART_INNER : PART_ALL);
+        if (split) {
+            *waited = psim_engine_halo_wait(e);
+            run_sweep(m, s, ts, PART_REST);
+        }
         return;
     }
-    for (uint32_t k = 0; k < m->ntiles; k++) {
-        task_spawn_tile(m, s, ts, tile_force, FPHASE_FORCE, 1, graph, &m->tiles[m->sweep[k]]);
-        if (k % row > 0)
-            task_spawn_tile(m, s, ts, tile_integrate, FPHASE_INTEGRATE, 1, graph,
-                            &m->tiles[m->sweep[k - 1]]);
-        if (k % row == row - 1)
-            task_spawn_tile(m, s, ts, tile_integrate, FPHASE_INTEGRATE, 1, graph,
-                            &m->tiles[m->sweep[k]]);
-    }
+    if (split) {
+        spawn_forces(m, s, ts, PART_INNER);   /* the team runs them while this one waits */
+        *waited = psim_engine_halo_wait(e);
+        spawn_forces(m, s, ts, PART_REST);
+#pragma omp taskwait
+    } else
+        run_tiles(m, s, ts, tile_force, FPHASE_FORCE, 1, graph);
+    run_tiles(m, s, ts, tile_integrate, FPHASE_INTEGRATE, 1, graph);
 }
 
 int force_step_lists(psim_sim *e, fmodel *m)
@@ -815,7 +939,10 @@ int force_step_lists(psim_sim *e, fmodel *m)
         double c = tiles_closing(m, t, m->tiles[t].fwd);
         m->tiles[t].shells = active_shells(m, ranks ? across : c < m->closing ? c : m->closing);
     }
-    double t0 = psim_now();
+    if (ranks && m->since_build == 0)
+        tiles_inner(e, m);
+    const int split = psim_engine_halo_pending(e);
+    double t0 = psim_now(), waited = 0;
     /* one thread, or one tile: the same calls in order */
     const int graph = e->threads > 1 && m->ntiles > 1;
     if (graph && m->rounds != FORCE_ROUNDS_TASKS) {
@@ -823,20 +950,28 @@ int force_step_lists(psim_sim *e, fmodel *m)
         {
             /* a region a round in every thread, to the round's barrier */
             PSIM_REGION_THREAD_BEGIN(e, FPHASE_FORCE);
-            run_round(m, s, ts, tile_force, FPHASE_FORCE);
+            run_round(m, s, ts, tile_force, FPHASE_FORCE, split ? PART_INNER : PART_ALL);
+            if (split) {
+#pragma omp master
+                waited = psim_engine_halo_wait(e);
+#pragma omp barrier
+                run_round(m, s, ts, tile_force, FPHASE_FORCE, PART_REST);
+            }
             PSIM_REGION_THREAD_END(e, FPHASE_FORCE);
             PSIM_REGION_THREAD_BEGIN(e, FPHASE_INTEGRATE);
-            run_round(m, s, ts, tile_integrate, FPHASE_INTEGRATE);
+            run_round(m, s, ts, tile_integrate, FPHASE_INTEGRATE, PART_ALL);
             PSIM_REGION_THREAD_END(e, FPHASE_INTEGRATE);
         }
-    } else {
-#pragma omp parallel num_threads(e->threads) if (graph)
-#pragma omp single
-        run_step(m, s, ts, graph);
-    }
+    } else if (graph) {
+#pragma omp parallel num_threads(e->threads)
+#pragma omp master
+        run_step(e, m, s, ts, graph, split, &waited);
+    } else
+        run_step(e, m, s, ts, graph, split, &waited);
     e->stats.skipped[FS_GRAPH] += !graph;
-    /* the phases interleave: the step's time split as the tasks' */
-    double wall = psim_now() - t0, tf = 0, ti = 0;
+    /* the phases interleave: the step's time split as the tasks' (the
+     * wait for the ghosts is the engine's comm phase) */
+    double wall = psim_now() - t0 - waited, tf = 0, ti = 0;
     for (uint32_t t = 0; t < m->ntiles; t++)
         tf += m->tiles[t].tf, ti += m->tiles[t].ti;
     double share = tf + ti > 0 ? tf / (tf + ti) : 0.5;
@@ -846,6 +981,8 @@ int force_step_lists(psim_sim *e, fmodel *m)
     int rc = finish(e, m);
     /* the bookkeeping of the moves: timed with them */
     PSIM_TIMED(e, FPHASE_INTEGRATE, tiles_drift(m, s));
+    if (ranks)
+        owned_paths(e, m);
     return rc;
 }
 
