@@ -3,6 +3,7 @@
 #include "dist.h"
 
 #include <errno.h>
+#include <stdio.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -115,5 +116,10 @@ int psim_dist_agree(int failed) { return failed ? 0 : -1; }
 double psim_dist_max(double v) { return v; }
 double psim_dist_sum(double v) { return v; }
 _Noreturn void psim_dist_abort(int code) { exit(code); }
-
 #endif
+
+_Noreturn void psim_dist_out_of_memory(const char *what)
+{
+    fprintf(stderr, "psim: rank %d: out of memory for %s\n", psim_dist_rank(), what);
+    psim_dist_abort(1);
+}

@@ -80,6 +80,8 @@ double psim_dist_max(double v);
 double psim_dist_sum(double v);
 /* End every rank of the job now (a failure past which ranks cannot agree). */
 _Noreturn void psim_dist_abort(int code);
+/* End every rank of the job after this rank said it has no memory for `what`. */
+_Noreturn void psim_dist_out_of_memory(const char *what);
 
 /* Collective: the scene file path read in parts, each rank its own
  * byte range of the particle lines (dist_read.c): sc becomes this rank's

@@ -71,19 +71,15 @@ static long repeated(const psim_scene *sc, long n, psim_error *err)
     int *scnt = calloc(4 * (size_t)R, sizeof *scnt), *sdsp = scnt + R, *rcnt = sdsp + R,
         *rdsp = rcnt + R;
     long *sbuf = malloc(2 * (size_t)(sc->n ? sc->n : 1) * sizeof *sbuf);
-    if (!scnt || !sbuf) {
-        fprintf(stderr, "psim: rank %d: out of memory for the scene\n", me);
-        psim_dist_abort(1);
-    }
+    if (!scnt || !sbuf)
+        psim_dist_out_of_memory("the scene");
     for (long i = 0; i < sc->n; i++)
         scnt[block_of(sc->id[i], n, R)] += 2;
     for (int q = 1; q < R; q++)
         sdsp[q] = sdsp[q - 1] + scnt[q - 1];
     int *at = malloc((size_t)R * sizeof *at);
-    if (!at) {
-        fprintf(stderr, "psim: rank %d: out of memory for the scene\n", me);
-        psim_dist_abort(1);
-    }
+    if (!at)
+        psim_dist_out_of_memory("the scene");
     memcpy(at, sdsp, (size_t)R * sizeof *at);
     for (long i = 0; i < sc->n; i++) {
         int q = block_of(sc->id[i], n, R);
@@ -97,10 +93,8 @@ static long repeated(const psim_scene *sc, long n, psim_error *err)
     const long lo = n * me / R, hi = n * (me + 1) / R;
     long *rbuf = malloc((got ? got : 1) * sizeof *rbuf);
     long *first = malloc((size_t)(hi > lo ? hi - lo : 1) * 2 * sizeof *first);
-    if (!rbuf || !first) {
-        fprintf(stderr, "psim: rank %d: out of memory for the scene\n", me);
-        psim_dist_abort(1);
-    }
+    if (!rbuf || !first)
+        psim_dist_out_of_memory("the scene");
     MPI_Alltoallv(sbuf, scnt, sdsp, MPI_LONG, rbuf, rcnt, rdsp, MPI_LONG, MPI_COMM_WORLD);
     free(sbuf), free(scnt);
     long *second = first + (hi - lo);
@@ -217,10 +211,8 @@ int psim_dist_scene_read(const char *path, psim_restart_schema_fn schema, psim_s
         psim_dist_abort(1);
     }
     seen s = {sc->n, rr.bad ? rr.line : 0, rr.lines, rr.bad}, *all = malloc((size_t)R * sizeof *all);
-    if (!all) {
-        fprintf(stderr, "psim: rank %d: out of memory for the scene\n", psim_dist_rank());
-        psim_dist_abort(1);
-    }
+    if (!all)
+        psim_dist_out_of_memory("the scene");
     MPI_Allgather(&s, 4, MPI_LONG, all, 4, MPI_LONG, MPI_COMM_WORLD);
     *err = mine;
     long line = as_one(sc, all, n, sp.line0, err);

@@ -90,17 +90,11 @@ static int places(psim_dist *d, size_t n)
     return d->cap ? 0 : -1;
 }
 
-static _Noreturn void out_of_memory(const char *what)
-{
-    fprintf(stderr, "psim: rank %d: out of memory for %s\n", me(), what);
-    psim_dist_abort(1);
-}
-
 static void *grow(void *p, size_t bytes, const char *what)
 {
     void *q = realloc(p, bytes ? bytes : 1);
     if (!q)
-        out_of_memory(what);
+        psim_dist_out_of_memory(what);
     return q;
 }
 
@@ -146,7 +140,7 @@ static void cut(psim_dist *d, double L, const double *x, const double *y, size_t
     dist_cuts *c = &d->cuts;
     uint64_t *h = calloc((size_t)c->px * DIST_BINS, sizeof *h);
     if (!h)
-        out_of_memory("the domains");
+        psim_dist_out_of_memory("the domains");
     for (size_t i = 0; i < n; i++)
         h[dist_bin(x[i], L)]++;
     if (all)
@@ -172,7 +166,7 @@ static void recut(psim_sim *e)
     double *x = malloc((d->n_own ? d->n_own : 1) * sizeof *x);
     double *y = malloc((d->n_own ? d->n_own : 1) * sizeof *y);
     if (!x || !y)
-        out_of_memory("the domains");
+        psim_dist_out_of_memory("the domains");
     size_t m = 0;
     for (size_t i = 0; i < st->n; i++)
         if (!d->ghost[i])
@@ -191,10 +185,10 @@ static double *pack_by_rank(const psim_store *st, const uint32_t *idx, const int
         sdsp[q] = (int)off, off += (size_t)scnt[q];
     double *buf = malloc((off ? off : 1) * REC * sizeof *buf);
     if (!buf)
-        out_of_memory("an exchange");
+        psim_dist_out_of_memory("an exchange");
     int *at = malloc((size_t)R() * sizeof *at);
     if (!at)
-        out_of_memory("an exchange");
+        psim_dist_out_of_memory("an exchange");
     memcpy(at, sdsp, (size_t)R() * sizeof *at);
     for (size_t k = 0; k < n; k++)
         put_rec(buf + (size_t)at[dest[k]]++ * REC, st, idx ? idx[k] : k);
@@ -253,7 +247,7 @@ static double *migrate(psim_sim *e, size_t *stay, size_t *got)
     int *dest = d->dest;
     int *c = calloc(4 * (size_t)n, sizeof *c);
     if (!c)
-        out_of_memory("an exchange");
+        psim_dist_out_of_memory("an exchange");
     size_t m = 0, w = 0;
     const rect own = own_rect(&d->cuts);
     for (size_t i = 0; i < st->n; i++) {
@@ -284,7 +278,7 @@ static double *migrate(psim_sim *e, size_t *stay, size_t *got)
     size_t r = counts(c, sd, rc, rd);
     double *rbuf = malloc((r ? r : 1) * REC * sizeof *rbuf);
     if (!rbuf)
-        out_of_memory("an exchange");
+        psim_dist_out_of_memory("an exchange");
     alltoallv(d, sbuf, c, sd, rbuf, rc, rd, REC);
     free(sbuf), free(c);
     *stay = w;
@@ -335,13 +329,13 @@ static double *ghosts(psim_sim *e, size_t m, size_t *got)
     d->nsend = ns;
     double *sbuf = malloc((ns ? ns : 1) * REC * sizeof *sbuf);
     if (!sbuf)
-        out_of_memory("the ghosts");
+        psim_dist_out_of_memory("the ghosts");
     for (size_t k = 0; k < ns; k++)
         put_rec(sbuf + k * REC, st, d->send_slot[k]);
     size_t r = counts(d->scnt, d->sdsp, d->rcnt, d->rdsp);
     double *rbuf = malloc((r ? r : 1) * REC * sizeof *rbuf);
     if (!rbuf)
-        out_of_memory("the ghosts");
+        psim_dist_out_of_memory("the ghosts");
     alltoallv(d, sbuf, d->scnt, d->sdsp, rbuf, d->rcnt, d->rdsp, REC);
     free(sbuf);
     d->nrecv = r;
@@ -387,13 +381,13 @@ static void exchange(psim_sim *e)
     const size_t m = stay + in;
     st->n = stay;
     if (psim_store_keep(st, m))
-        out_of_memory("the particles");
+        psim_dist_out_of_memory("the particles");
     for (size_t i = 0; i < in; i++)
         get_rec(st, stay + i, arrived + i * REC);
     free(arrived);
     double *gh = ghosts(e, m, &g);
     if (psim_store_keep(st, m + g) || places(d, m + g))
-        out_of_memory("the particles");
+        psim_dist_out_of_memory("the particles");
     for (size_t i = 0; i < g; i++)
         get_rec(st, m + i, gh + i * REC);
     free(gh);
@@ -408,7 +402,7 @@ static void exchange(psim_sim *e)
     d->exchanged = 1;
     d->rs.exchanges++;
     if ((d->recut || d->regrid) && psim_engine_regrid(e))   /* the grid over the new domain */
-        out_of_memory("the grid");
+        psim_dist_out_of_memory("the grid");
     d->regrid = 0;
     /* cut again at the next exchange if the shares drifted apart */
     double most = psim_dist_max((double)m);
@@ -531,7 +525,7 @@ static int keep_part(psim_sim *e, psim_scene *sc, int take, psim_error *err)
     cut(d, sc->L, sc->x, sc->y, n, 1);
     int *dest = malloc((n ? n : 1) * sizeof *dest);
     if (!dest)
-        out_of_memory("the scene");
+        psim_dist_out_of_memory("the scene");
     memset(d->scnt, 0, (size_t)R() * sizeof *d->scnt);
     for (size_t i = 0; i < n; i++)
         d->scnt[dest[i] = dist_cuts_owner(&d->cuts, sc->x[i], sc->y[i])]++;
@@ -539,7 +533,7 @@ static int keep_part(psim_sim *e, psim_scene *sc, int take, psim_error *err)
     double *sbuf = malloc((n ? n : 1) * REC * sizeof *sbuf);
     int *at = malloc((size_t)R() * sizeof *at);
     if (!sbuf || !at)
-        out_of_memory("the scene");
+        psim_dist_out_of_memory("the scene");
     memcpy(at, d->sdsp, (size_t)R() * sizeof *at);
     for (size_t i = 0; i < n; i++) {
         double *o = sbuf + (size_t)at[dest[i]]++ * REC;
@@ -552,7 +546,7 @@ static int keep_part(psim_sim *e, psim_scene *sc, int take, psim_error *err)
     }
     double *rbuf = malloc((own ? own : 1) * REC * sizeof *rbuf);
     if (!rbuf)
-        out_of_memory("the scene");
+        psim_dist_out_of_memory("the scene");
     alltoallv(d, sbuf, d->scnt, d->sdsp, rbuf, d->rcnt, d->rdsp, REC);
     free(sbuf);
     int rc = own_store(e, own, err);

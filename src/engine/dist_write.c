@@ -84,12 +84,6 @@ struct psim_dist_parts {
     int failed;            /* every rank's: the lowest failed rank's errno */
 };
 
-static _Noreturn void out_of_memory(const char *what)
-{
-    fprintf(stderr, "psim: rank %d: out of memory for %s\n", psim_dist_rank(), what);
-    psim_dist_abort(1);
-}
-
 static MPI_File *output_of(FILE *f)
 {
     for (int k = 0; k < noutputs; k++)
@@ -143,7 +137,7 @@ int psim_dist_output_open(FILE *f, const char *path)
         return 0;   /* rank 0 writes it alone */
     char *name = malloc((size_t)len + 1);
     if (!name)
-        out_of_memory("an output's name");
+        psim_dist_out_of_memory("an output's name");
     if (path)
         memcpy(name, path, (size_t)len + 1);
     MPI_Bcast(name, (int)len + 1, MPI_CHAR, 0, MPI_COMM_WORLD);
@@ -244,7 +238,7 @@ static void order_own(struct psim_dist_parts *w)
         own += !psim_engine_ghost(e, k);
     w->order = malloc((own ? own : 1) * sizeof *w->order);
     if (!w->start || !w->order)
-        out_of_memory("the outputs");
+        psim_dist_out_of_memory("the outputs");
     for (size_t k = 0; k < st->n; k++)
         if (!psim_engine_ghost(e, k)) {
             if (st->id[k] < 0 || st->id[k] >= w->N) {
@@ -258,7 +252,7 @@ static void order_own(struct psim_dist_parts *w)
         w->start[k + 1] += w->start[k];
     size_t *at = malloc((keys ? keys : 1) * sizeof *at);
     if (!at)
-        out_of_memory("the outputs");
+        psim_dist_out_of_memory("the outputs");
     memcpy(at, w->start, keys * sizeof *at);
     for (size_t k = 0; k < st->n; k++)
         if (!psim_engine_ghost(e, k))
@@ -270,7 +264,7 @@ struct psim_dist_parts *psim_dist_parts_begin(psim_sim *e, FILE *f)
 {
     struct psim_dist_parts *w = calloc(1, sizeof *w);
     if (!w)
-        out_of_memory("the outputs");
+        psim_dist_out_of_memory("the outputs");
     w->e = e, w->f = f;
     w->R = psim_dist_ranks(), w->me = psim_dist_rank();
     w->N = e->n_all;
@@ -315,7 +309,7 @@ struct psim_dist_parts *psim_dist_parts_begin(psim_sim *e, FILE *f)
     w->rbuf = malloc(w->cap * REC * sizeof *w->rbuf);
     w->cnt = malloc(4 * (size_t)w->R * sizeof *w->cnt);
     if (!vs->x || !vs->y || !vs->vx || !vs->vy || !vs->id || !w->rbuf || !w->cnt)
-        out_of_memory("the outputs");
+        psim_dist_out_of_memory("the outputs");
     w->j = -1;
     return w;
 }
@@ -331,7 +325,7 @@ static void gather_part(struct psim_dist_parts *w, long j)
     free(w->sbuf);
     w->sbuf = malloc((ns ? ns : 1) * REC * sizeof *w->sbuf);
     if (!w->sbuf)
-        out_of_memory("the outputs");
+        psim_dist_out_of_memory("the outputs");
     for (size_t a = 0; a < ns; a++) {
         size_t k = w->order[s[0] + a];
         double *o = w->sbuf + a * REC;
@@ -382,7 +376,7 @@ psim_sim *psim_dist_parts_next(struct psim_dist_parts *w, FILE **mem)
     w->text = NULL, w->len = 0;
     w->mem = open_memstream(&w->text, &w->len);
     if (!w->mem)
-        out_of_memory("the outputs");
+        psim_dist_out_of_memory("the outputs");
     psim_io_progress_part(w->lines_before, w->lines_all);
     *mem = w->mem;
     return &w->view;
@@ -402,7 +396,7 @@ static int funnel(struct psim_dist_parts *w, const long long *len)
     for (int q = 1; q < w->R; q++) {
         char *c = realloc(b, len[2 * q] ? (size_t)len[2 * q] : 1);
         if (!c)
-            out_of_memory("the outputs");
+            psim_dist_out_of_memory("the outputs");
         b = c;
         MPI_Recv(b, (int)len[2 * q], MPI_BYTE, q, 0, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
         if (!err && fwrite(b, 1, (size_t)len[2 * q], w->f) != (size_t)len[2 * q])
@@ -427,7 +421,7 @@ void psim_dist_parts_done(struct psim_dist_parts *w, int rc)
     long long mine[2] = {w->err ? -1 : (long long)w->len, w->err};
     long long *all = malloc(2 * (size_t)w->R * sizeof *all);
     if (!all)
-        out_of_memory("the outputs");
+        psim_dist_out_of_memory("the outputs");
     MPI_Allgather(mine, 2, MPI_LONG_LONG, all, 2, MPI_LONG_LONG, MPI_COMM_WORLD);
     long long off = w->at, total = 0;
     for (int q = 0; q < w->R; q++) {
