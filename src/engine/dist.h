@@ -92,6 +92,15 @@ _Noreturn void psim_dist_out_of_memory(const char *what);
 int psim_dist_scene_read(const char *path, psim_restart_schema_fn schema, psim_scene *sc,
                          psim_error *err);
 
+/* Collective, for a model that shares (model.h): every rank's part of
+ * the scene gathered, so that sc is the whole scene on every rank (of a
+ * restart file, its particles' order too).  0 (out of memory ends the job). */
+int psim_dist_scene_whole(psim_scene *sc, psim_error *err);
+/* Whether the run over ranks is of a model that shares. */
+int psim_dist_shares(const struct psim_sim *e);
+/* Collective: rank 0's rc (0, or -1 with errno set) on every rank. */
+int psim_dist_said(int rc);
+
 /* Engine side (engine.c). */
 /* Set up the run over ranks: the domains cut where sc's particles are,
  * and this rank's own particles kept: of a whole scene those in its

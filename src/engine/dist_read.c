@@ -228,7 +228,80 @@ int psim_dist_scene_read(const char *path, psim_restart_schema_fn schema, psim_s
     return 0;
 }
 
+/* A particle of a part as it travels to every rank: id, x, y, vx, vy and
+ * its line (0 for a made scene). */
+#define WHOLE_REC 6
+
+int psim_dist_scene_whole(psim_scene *sc, psim_error *err)
+{
+    (void)err;
+    const int R = psim_dist_ranks();
+    const long n = sc->n, all = sc->n_all;
+    int *cnt = malloc(2 * (size_t)R * sizeof *cnt);
+    double *mine = malloc((size_t)(n ? n : 1) * WHOLE_REC * sizeof *mine);
+    double *got = malloc((size_t)(all ? all : 1) * WHOLE_REC * sizeof *got);
+    if (!cnt || !mine || !got)
+        psim_dist_out_of_memory("the scene");
+    int *dsp = cnt + R, c = (int)n;
+    for (long i = 0; i < n; i++) {
+        double *o = mine + i * WHOLE_REC;
+        o[0] = sc->id[i], o[1] = sc->x[i], o[2] = sc->y[i], o[3] = sc->vx[i], o[4] = sc->vy[i];
+        o[5] = sc->line ? (double)sc->line[i] : 0;
+    }
+    MPI_Allgather(&c, 1, MPI_INT, cnt, 1, MPI_INT, MPI_COMM_WORLD);
+    long total = 0;
+    for (int q = 0; q < R; q++)
+        dsp[q] = (int)total, total += cnt[q];
+    if (total != all) {
+        fprintf(stderr, "psim: rank %d: the parts hold %ld particles, not %ld\n",
+                psim_dist_rank(), total, all);
+        psim_dist_abort(1);
+    }
+    MPI_Datatype rec;
+    MPI_Type_contiguous(WHOLE_REC, MPI_DOUBLE, &rec);
+    MPI_Type_commit(&rec);
+    MPI_Allgatherv(mine, c, rec, got, cnt, dsp, rec, MPI_COMM_WORLD);
+    MPI_Type_free(&rec);
+    free(mine), free(cnt);
+    /* the parts in rank order are the file's lines in order: a restart
+     * file's order of the particles */
+    const int order = sc->restart.present && !sc->restart.order;
+    free(sc->x), free(sc->y), free(sc->vx), free(sc->vy), free(sc->id), free(sc->line);
+    sc->id = NULL, sc->line = NULL;
+    sc->n = all;
+    const size_t b = (size_t)(all ? all : 1) * sizeof(double);
+    sc->x = malloc(b), sc->y = malloc(b), sc->vx = malloc(b), sc->vy = malloc(b);
+    if (!sc->x || !sc->y || !sc->vx || !sc->vy)
+        psim_dist_out_of_memory("the scene");
+    if (sc->source && !(sc->line = calloc((size_t)(all ? all : 1), sizeof *sc->line)))
+        psim_dist_out_of_memory("the scene");
+    if (order && !(sc->restart.order = malloc((size_t)(all ? all : 1) * sizeof(int32_t))))
+        psim_dist_out_of_memory("the scene");
+    for (long k = 0; k < all; k++) {
+        const double *p = got + k * WHOLE_REC;
+        long i = (long)p[0];
+        if (i < 0 || i >= all) {
+            fprintf(stderr, "psim: rank %d: particle %ld is not one of %ld\n", psim_dist_rank(),
+                    i, all);
+            psim_dist_abort(1);
+        }
+        sc->x[i] = p[1], sc->y[i] = p[2], sc->vx[i] = p[3], sc->vy[i] = p[4];
+        if (sc->line)
+            sc->line[i] = (long)p[5];
+        if (order)
+            sc->restart.order[k] = (int32_t)i;
+    }
+    free(got);
+    return 0;
+}
+
 #else
+
+int psim_dist_scene_whole(psim_scene *sc, psim_error *err)
+{
+    (void)sc, (void)err;
+    return 0;
+}
 
 int psim_dist_scene_read(const char *path, psim_restart_schema_fn schema, psim_scene *sc,
                          psim_error *err)

@@ -4,6 +4,7 @@
 #include "dist.h"
 
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -28,6 +29,8 @@ typedef struct psim_dist {
     psim_halo halo;
     double h;                 /* the halo's width: reach + skin */
     int comm_phase;           /* the stats' "comm" */
+    int shares;               /* the model shares (model.h): every rank
+                               * holds every particle, no ghosts */
     size_t n_own;             /* owned particles (the store's others are ghosts) */
     int due, exchanged, recut, regrid;
     double drift;             /* every owned particle has moved at most this
@@ -559,7 +562,7 @@ static int keep_part(psim_sim *e, psim_scene *sc, int take, psim_error *err)
 int psim_dist_attach(psim_sim *e, psim_scene *sc, int take, psim_error *err)
 {
     const psim_model *m = e->model;
-    if (!m->halo) {
+    if (!m->halo && !m->shares) {
         psim_error_set(err, "the %s model runs in one process only (over MPI ranks: "
                             "the models with a halo, psim models says which)", m->name);
         err->usage = 1;
@@ -584,6 +587,8 @@ int psim_dist_attach(psim_sim *e, psim_scene *sc, int take, psim_error *err)
     d->due = d->regrid = 1;
     d->comm_phase = e->stats.nphases;
     e->stats.phase_name[e->stats.nphases++] = "comm";
+    if ((d->shares = !m->halo))   /* the engine fills the store as one process */
+        return 0;
     if (sc->id)
         return keep_part(e, sc, take, err);
     /* every rank holds the whole scene here: each cuts the domains from it
@@ -604,9 +609,13 @@ int psim_dist_attach(psim_sim *e, psim_scene *sc, int take, psim_error *err)
 int psim_dist_ready(psim_sim *e, psim_error *err)
 {
     psim_dist *d = e->dist;
+    d->gathered = grow(d->gathered, 5 * (size_t)R() * sizeof *d->gathered, "the ranks' figures");
+    if (d->shares) {
+        d->n_own = e->st.n;
+        return 0;
+    }
     e->model->halo(e, e->mstate, &d->halo);
     d->h = d->halo.reach + d->halo.skin;
-    d->gathered = grow(d->gathered, 5 * (size_t)R() * sizeof *d->gathered, "the ranks' figures");
     /* domains narrower than the halo: most particles would be ghosts
      * somewhere else too */
     double side = e->L / (d->cuts.px > d->cuts.py ? d->cuts.px : d->cuts.py);
@@ -641,6 +650,8 @@ int psim_dist_prestep(psim_sim *e, psim_error *err)
 {
     psim_dist *d = e->dist;
     (void)err;
+    if (d->shares)
+        return 0;
     double t0 = psim_now();
     if (d->due)
         exchange(e);
@@ -702,8 +713,8 @@ int psim_dist_poststep(psim_sim *e, int rc, psim_error *err)
     const int stopped = psim_stop_requested();
     /* the drift: the step's as the model said it (summed), or measured;
      * the two longest paths, as the model said them (else none known) */
-    d->unsaid |= !d->said;
-    double v[5] = {rc && !stopped ? 1 : 0, stopped, rc ? 0 : d->said ? d->moved : drift2(e),
+    d->unsaid |= !d->said && !d->shares;
+    double v[5] = {rc && !stopped ? 1 : 0, stopped, rc || d->shares ? 0 : d->said ? d->moved : drift2(e),
                    d->pathed ? d->path[0] : INFINITY, d->pathed ? d->path[1] : INFINITY};
     for (int k = 2; k < 5; k++)
         if (v[k] != v[k])
@@ -731,6 +742,8 @@ int psim_dist_poststep(psim_sim *e, int rc, psim_error *err)
             psim_error_set(err, "%s", "");   /* the rank that failed says why */
         return -1;
     }
+    if (d->shares)
+        return 0;
     d->drift = d->said ? d->drift + v[2] : sqrt(v[2]);
     if (d->said && d->x0) {   /* the model says it: no origin needed */
         free(d->x0), free(d->y0);
@@ -789,6 +802,8 @@ int psim_dist_bbox(const psim_sim *e, double *bb)
 void psim_dist_sorted(psim_sim *e)
 {
     psim_dist *d = e->dist;
+    if (d->shares)
+        return;
     if (!e->st.from) {   /* a sort before the first exchange */
         d->due = 1;
         return;
@@ -849,7 +864,65 @@ double psim_engine_drift(const psim_sim *e)
 
 int psim_engine_ghost(const psim_sim *e, size_t place)
 {
-    return e->dist && e->dist->ghost[place];
+    return e->dist && e->dist->ghost && e->dist->ghost[place];
+}
+
+int psim_dist_shares(const psim_sim *e)
+{
+    return e->dist && e->dist->shares;
+}
+
+int psim_engine_rank(const psim_sim *e)
+{
+    return e->dist ? me() : 0;
+}
+
+int psim_dist_said(int rc)
+{
+    int v[2] = {rc, rc ? errno : 0};
+    MPI_Bcast(v, 2, MPI_INT, 0, MPI_COMM_WORLD);
+    errno = v[1];
+    return v[0];
+}
+
+void psim_engine_alltoall(psim_sim *e, const void *send, const size_t *sbytes, void **recv,
+                          size_t *rbytes)
+{
+    psim_dist *d = e->dist;
+    if (!d) {   /* one process: to itself */
+        *recv = grow(NULL, sbytes[0], "an exchange");
+        memcpy(*recv, send, sbytes[0]);
+        rbytes[0] = sbytes[0];
+        return;
+    }
+    const int n = R();
+    double t0 = psim_now();
+    size_t s = 0, r = 0;
+    for (int q = 0; q < n; q++) {
+        if (sbytes[q] > INT_MAX) {
+            fprintf(stderr, "psim: rank %d: %zu bytes for one rank in one message\n", me(),
+                    sbytes[q]);
+            psim_dist_abort(1);
+        }
+        d->scnt[q] = (int)sbytes[q];
+        if (q != me() && sbytes[q]) {
+            d->rs.bytes_sent += sbytes[q];
+            d->rs.messages_sent++;
+        }
+    }
+    counts(d->scnt, d->sdsp, d->rcnt, d->rdsp);
+    for (int q = 0; q < n; q++) {
+        if ((size_t)d->sdsp[q] != s || (size_t)d->rdsp[q] != r || s > INT_MAX - sbytes[q]) {
+            fprintf(stderr, "psim: rank %d: more than 2 GiB in one exchange\n", me());
+            psim_dist_abort(1);
+        }
+        s += sbytes[q], r += (size_t)d->rcnt[q];
+        rbytes[q] = (size_t)d->rcnt[q];
+    }
+    *recv = grow(NULL, r, "an exchange");
+    MPI_Alltoallv(send, d->scnt, d->sdsp, MPI_BYTE, *recv, d->rcnt, d->rdsp, MPI_BYTE,
+                  MPI_COMM_WORLD);
+    e->stats.phase_s[d->comm_phase] += psim_now() - t0;
 }
 
 #else /* without MPI no run has ranks: never called */
@@ -877,6 +950,18 @@ void psim_engine_reduce(psim_sim *e, double *sum, int nsum, double *least, int n
 int psim_dist_finite(const psim_sim *e, psim_error *err) { (void)e, (void)err; return 0; }
 double psim_engine_drift(const psim_sim *e) { (void)e; return 0; }
 int psim_engine_ghost(const psim_sim *e, size_t place) { (void)e, (void)place; return 0; }
+int psim_dist_shares(const psim_sim *e) { (void)e; return 0; }
+int psim_engine_rank(const psim_sim *e) { (void)e; return 0; }
+int psim_dist_said(int rc) { return rc; }
+void psim_engine_alltoall(psim_sim *e, const void *send, const size_t *sbytes, void **recv,
+                          size_t *rbytes)
+{
+    (void)e;
+    if (!(*recv = malloc(sbytes[0] ? sbytes[0] : 1)))
+        psim_dist_out_of_memory("an exchange");
+    memcpy(*recv, send, sbytes[0]);
+    rbytes[0] = sbytes[0];
+}
 int psim_engine_halo_pending(const psim_sim *e) { (void)e; return 0; }
 double psim_engine_halo_wait(psim_sim *e) { (void)e; return 0; }
 size_t psim_engine_ghosts(const psim_sim *e, const uint32_t **place)

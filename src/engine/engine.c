@@ -341,6 +341,10 @@ psim_sim *psim_engine_create(psim_scene *sc, const psim_config *cfg,
     e->threads = cfg->threads > 0 ? cfg->threads : omp_get_max_threads();
     if (e->threads > omp_get_thread_limit())   /* no team gets more (OMP_THREAD_LIMIT) */
         e->threads = omp_get_thread_limit();
+    /* a model that shares holds the whole scene on every rank */
+    const int ranks = psim_dist_ranks() > 1;
+    if (ranks && model->shares && sc->id && psim_dist_scene_whole(sc, err))
+        goto fail;
     e->n = e->n_all = psim_scene_all(sc);
     e->L = sc->L;
     e->r = sc->r;
@@ -360,13 +364,13 @@ psim_sim *psim_engine_create(psim_scene *sc, const psim_config *cfg,
         goto fail;
     if (psim_engine_restart_init(e, sc, err))
         goto fail;
-    if (psim_dist_ranks() > 1) {
-        if (cfg->check) {
+    if (ranks) {
+        if (cfg->check && !model->shares) {
             psim_error_set(err, "--check runs in one process only, not over MPI ranks");
             err->usage = 1;
             goto fail;
         }
-        if (psim_dist_attach(e, sc, take, err))
+        if (psim_dist_attach(e, sc, take, err) || (model->shares && store_fill(e, sc, err)))
             goto fail;
     } else if (sc->id) {   /* (scene.h: each rank's part) */
         psim_error_set(err, "a part of a scene runs over MPI ranks only");

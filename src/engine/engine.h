@@ -99,9 +99,19 @@ int psim_engine_limits(const struct psim_sim *e, const psim_scene *sc, psim_erro
  * simulation v_ of a few of the ids in order (its `part` says which, and
  * whether it writes the file's header or footer) that `call` writes to f_
  * as one process would; every rank returns the same, -1 with errno set if
- * a write failed on any of them. */
+ * a write failed on any of them.  For a model that shares (model.h) rank
+ * 0 writes the whole state, as one process. */
 #define BY_PARTS(e, f, call)                                                  \
     do {                                                                      \
+        if ((e)->dist && psim_dist_shares(e)) { /* rank 0 holds it all */     \
+            psim_sim sv_ = *(e);                                              \
+            sv_.dist = NULL;                                                  \
+            psim_sim *v_ = &sv_;                                              \
+            FILE *f_ = (f);                                                   \
+            int rc_ = psim_dist_rank() == 0 ? (call) : 0;                     \
+            (e)->stats = sv_.stats;                                           \
+            return psim_dist_said(rc_);                                       \
+        }                                                                     \
         if ((e)->dist) {                                                      \
             struct psim_dist_parts *w_ = psim_dist_parts_begin(e, f);         \
             psim_sim *v_;                                                     \

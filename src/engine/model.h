@@ -139,6 +139,13 @@ typedef struct psim_model {
      * (psim_engine_exchanged); what it sums over particles, it sums over
      * its own (psim_engine_ghost). */
     int (*halo)(const struct psim_sim *e, const void *m, psim_halo *h);
+    /* or: over MPI ranks every rank holds every particle, and the model
+     * shares out each step's work and keeps the copies equal itself
+     * (psim_engine_rank, psim_engine_alltoall, psim_engine_reduce): for
+     * a model whose results follow an order over the whole scene.  The
+     * engine then runs the steps as one process does on every rank and
+     * rank 0 writes the outputs. */
+    int shares;
     /* optional: its source's own initial state of n particles from seed,
      * particles lo..hi-1 of it alone (sc then holds hi - lo; over MPI
      * ranks each rank makes its own block of ids) */
@@ -235,6 +242,15 @@ void psim_engine_paths(struct psim_sim *e, double p1, double p2);
  * same step): sum[0..nsum) summed and least[0..nleast) the least over
  * the ranks, in place.  One process: nothing. */
 void psim_engine_reduce(struct psim_sim *e, double *sum, int nsum, double *least, int nleast);
+/* Over ranks: this rank (0 .. psim_engine_ranks - 1; 0 in one process). */
+int psim_engine_rank(const struct psim_sim *e);
+/* Over ranks, collective, for a model that shares: rank q gets
+ * sbytes[q] bytes of send, packed in rank order, and *recv (allocated;
+ * the caller frees it) holds what every rank sent this one, in rank
+ * order, rbytes[q] from rank q.  Timed as the comm phase; the bytes and
+ * messages to other ranks are counted.  Out of memory ends the job. */
+void psim_engine_alltoall(struct psim_sim *e, const void *send, const size_t *sbytes,
+                          void **recv, size_t *rbytes);
 /* Index of the counter called name in the stats (-1 if none). */
 int psim_engine_counter(const struct psim_sim *e, const char *name);
 

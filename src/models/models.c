@@ -37,7 +37,7 @@ const char *psim_model_summary(int k)
 
 int psim_model_distributed(int k)
 {
-    return k >= 0 && k < NMODELS && models[k]->halo != NULL;
+    return k >= 0 && k < NMODELS && (models[k]->halo != NULL || models[k]->shares);
 }
 
 const psim_model *psim_model_find(const char *name)
