@@ -61,6 +61,7 @@ typedef struct psim_dist {
     size_t usend_cap, urecv_cap;
     MPI_Request *ureq;        /* an update's sends and receives in flight */
     int nureq, upending;
+    MPI_Request *sreq;        /* a sharing model's messages in flight */
     MPI_Datatype utype;       /* a ghost's fields */
     int utype_k;
     uint32_t *pick;           /* an exchange's places: leavers, then those near a side */
@@ -640,7 +641,7 @@ void psim_dist_detach(psim_sim *e)
     free(d->usend), free(d->urecv), free(d->pick), free(d->dest);
     if (d->ureq)
         MPI_Type_free(&d->utype);
-    free(d->ureq), free(d->gathered);
+    free(d->ureq), free(d->sreq), free(d->gathered);
     free(d);
     e->dist = NULL;
     e->st.from = NULL;
@@ -925,6 +926,60 @@ void psim_engine_alltoall(psim_sim *e, const void *send, const size_t *sbytes, v
     e->stats.phase_s[d->comm_phase] += psim_now() - t0;
 }
 
+void psim_engine_sendrecv(psim_sim *e, const void *send, const size_t *sbytes, void *recv,
+                          const size_t *rbytes)
+{
+    psim_dist *d = e->dist;
+    const int n = R();
+    double t0 = psim_now();
+    d->sreq = grow(d->sreq, 2 * (size_t)n * sizeof *d->sreq, "an exchange");
+    int nreq = 0;
+    size_t s = 0, r = 0;
+    for (int q = 0; q < n; q++) {
+        if (sbytes[q] > INT_MAX || rbytes[q] > INT_MAX) {
+            fprintf(stderr, "psim: rank %d: more than 2 GiB in one message\n", me());
+            psim_dist_abort(1);
+        }
+        if (q == me())
+            memcpy((char *)recv + r, (const char *)send + s, sbytes[q]);
+        else {
+            if (rbytes[q])
+                MPI_Irecv((char *)recv + r, (int)rbytes[q], MPI_BYTE, q, 7, MPI_COMM_WORLD,
+                          &d->sreq[nreq++]);
+            if (sbytes[q]) {
+                MPI_Isend((const char *)send + s, (int)sbytes[q], MPI_BYTE, q, 7,
+                          MPI_COMM_WORLD, &d->sreq[nreq++]);
+                d->rs.bytes_sent += sbytes[q];
+                d->rs.messages_sent++;
+            }
+        }
+        s += sbytes[q], r += rbytes[q];
+    }
+    MPI_Waitall(nreq, d->sreq, MPI_STATUSES_IGNORE);
+    e->stats.phase_s[d->comm_phase] += psim_now() - t0;
+}
+
+void psim_engine_allgather(psim_sim *e, double *const *a, int k, const size_t *at)
+{
+    psim_dist *d = e->dist;
+    const int n = R();
+    double t0 = psim_now();
+    for (int q = 0; q < n; q++) {
+        if (at[q + 1] - at[q] > INT_MAX || at[q] > INT_MAX) {
+            fprintf(stderr, "psim: rank %d: more than 2^31 values in one gather\n", me());
+            psim_dist_abort(1);
+        }
+        d->rcnt[q] = (int)(at[q + 1] - at[q]), d->rdsp[q] = (int)at[q];
+    }
+    for (int j = 0; j < k; j++) {
+        MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, a[j], d->rcnt, d->rdsp, MPI_DOUBLE,
+                       MPI_COMM_WORLD);
+        d->rs.bytes_sent += (uint64_t)(n - 1) * (at[me() + 1] - at[me()]) * sizeof(double);
+        d->rs.messages_sent += (uint64_t)(n - 1);
+    }
+    e->stats.phase_s[d->comm_phase] += psim_now() - t0;
+}
+
 #else /* without MPI no run has ranks: never called */
 
 int psim_dist_attach(psim_sim *e, psim_scene *sc, int take, psim_error *err)
@@ -953,6 +1008,16 @@ int psim_engine_ghost(const psim_sim *e, size_t place) { (void)e, (void)place; r
 int psim_dist_shares(const psim_sim *e) { (void)e; return 0; }
 int psim_engine_rank(const psim_sim *e) { (void)e; return 0; }
 int psim_dist_said(int rc) { return rc; }
+void psim_engine_sendrecv(psim_sim *e, const void *send, const size_t *sbytes, void *recv,
+                          const size_t *rbytes)
+{
+    (void)e, (void)rbytes;
+    memcpy(recv, send, sbytes[0]);
+}
+void psim_engine_allgather(psim_sim *e, double *const *a, int k, const size_t *at)
+{
+    (void)e, (void)a, (void)k, (void)at;
+}
 void psim_engine_alltoall(psim_sim *e, const void *send, const size_t *sbytes, void **recv,
                           size_t *rbytes)
 {

@@ -251,6 +251,17 @@ int psim_engine_rank(const struct psim_sim *e);
  * messages to other ranks are counted.  Out of memory ends the job. */
 void psim_engine_alltoall(struct psim_sim *e, const void *send, const size_t *sbytes,
                           void **recv, size_t *rbytes);
+/* Over ranks, for a model that shares: sbytes[q] bytes of send, packed
+ * in rank order, to each rank q, and rbytes[q] bytes from each rank q
+ * into recv (in rank order), sizes both sides know (point to point: a
+ * rank that sends nothing to another and expects nothing from it makes
+ * no call for it).  Timed and counted as psim_engine_alltoall. */
+void psim_engine_sendrecv(struct psim_sim *e, const void *send, const size_t *sbytes,
+                          void *recv, const size_t *rbytes);
+/* Over ranks, collective, for a model that shares: every rank's range
+ * [at[q], at[q + 1]) of each of the k arrays a[0..k) to every rank, in
+ * place.  Timed and counted as psim_engine_alltoall. */
+void psim_engine_allgather(struct psim_sim *e, double *const *a, int k, const size_t *at);
 /* Index of the counter called name in the stats (-1 if none). */
 int psim_engine_counter(const struct psim_sim *e, const char *name);
 

@@ -98,7 +98,7 @@ mpi_fail() {   # RC SUBSTRING ARGS...: mpirun -np 2 fails with psim's one line
 printf '10\n100\n1\n5\n0 1 1 1 1\n1 2 zz 1 1\n' >"$tmp/bad.in"
 mpi_fail 1 "bad.in:6" --model force "$tmp/bad.in" -q -o "$tmp/out.txt"
 [[ ! -e $tmp/out.txt ]] || fail "a bad scene left an output"
-mpi_fail 2 "one process only" --model discrete "$tmp/s.in" -q -o "$tmp/out.txt"
+mpi_fail 2 "one process only" --model event "$tmp/s.in" -q -o "$tmp/out.txt"
 mpi_fail 2 "one process only" --model force "$tmp/s.in" --check -q -o "$tmp/out.txt"
 mpi_fail 2 "use fewer ranks" --model force -n 3 -q -o "$tmp/out.txt"
 mpi_fail 1 "write failed" --model force -n 500 --steps 20 -q -o /dev/full

@@ -115,6 +115,8 @@ int discrete_balance(psim_sim *e, dmodel *m)
     if (!w || !cut)
         goto done;
     double *col = w + cells, *row = col + G, *load = row + G;
+    if (m->ranks > 1)
+        discrete_ranks_work(e, m);
     double total = work_by_cell(e, m, w, col, row);
     quantile_cuts(col, total, G, TG, cut);
     quantile_cuts(row, total, G, TG, cut + TG + 1);
@@ -123,7 +125,7 @@ int discrete_balance(psim_sim *e, dmodel *m)
     changed = now > BAL_SHARE * total && then < BAL_GAIN * now;
     if (changed) {
         psim_engine_grid_cut(e, cut, cut + TG + 1);
-        e->stats.counter[DC_CUTS]++;
+        e->stats.counter[DC_CUTS] += m->rank == 0;   /* (summed over ranks) */
     }
 done:
     psim_free(w);

@@ -343,6 +343,7 @@ __attribute__((noinline)) void discrete_find_contacts(psim_sim *e, dmodel *m)
         m->tiles[t].p0 = g->cellstart[g->tile_cell0[t]];
         m->tiles[t].p1 = g->cellstart[g->tile_cell0[t + 1]];
     }
+    discrete_ranks_own(e, m);
     uint64_t found = 0;
     const int nearest = m->fl.enabled && m->step_contacts == 0;
 #pragma omp parallel num_threads(e->threads) reduction(+ : found)
@@ -354,8 +355,8 @@ __attribute__((noinline)) void discrete_find_contacts(psim_sim *e, dmodel *m)
             ch->d2min = INFINITY;
             ch->tests = 0;
             uint32_t a = g->cellstart[ch->c0], b = g->cellstart[ch->c1];
-            if (a == b)
-                continue; /* an empty region: no work */
+            if (a == b || !discrete_mine(m, ch->tile))
+                continue; /* an empty region, or another rank's: no work */
             double t0 = psim_now();
             /* the nearest pair matters only where the search may find no
              * contact: after one that found none (flight.c) */
@@ -370,7 +371,7 @@ __attribute__((noinline)) void discrete_find_contacts(psim_sim *e, dmodel *m)
 #pragma omp for schedule(dynamic, 1)
         for (uint32_t t = 0; t < m->ntiles; t++) {
             dtile *tile = &m->tiles[t];
-            if (tile->p0 == tile->p1) {
+            if (tile->p0 == tile->p1 || !discrete_mine(m, t)) {
                 clear_lists(&tile->in, tile->cross);
                 continue;
             }
@@ -383,13 +384,16 @@ __attribute__((noinline)) void discrete_find_contacts(psim_sim *e, dmodel *m)
         }
     }
     e->stats.counter[DC_CONTACTS] += found;
-    m->step_contacts = found;
     m->d2min = nearest ? INFINITY : 0;
     uint64_t tests = 0;
     for (uint32_t k = 0; k < m->nchunks; k++) {
         m->d2min = m->chunks[k].d2min < m->d2min ? m->chunks[k].d2min : m->d2min;
         tests += m->chunks[k].tests;
     }
-    m->step_tests = tests;
     e->stats.counter[DC_SEARCH_TESTS] += tests;
+    /* over ranks: every rank's, and the contacts across ranks to both */
+    if (m->ranks > 1 && discrete_ranks_contacts(e, m, &found, &tests, &m->d2min))
+        m->tiles[0].oom = 1;
+    m->step_contacts = found;
+    m->step_tests = tests;
 }

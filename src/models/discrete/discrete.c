@@ -24,7 +24,8 @@ static int build_edges(const psim_grid *g, dmodel *m)
         return -1;
     m->nedges = 0;
     for (int f = 0; f < 4; f++)
-        for (int parity = 0; parity < 2; parity++)
+        for (int parity = 0; parity < 2; parity++) {
+            m->level0[2 * f + parity] = m->nedges;
             for (uint32_t t = 0; t < m->ntiles; t++) {
                 int tx = g->tile_x[t], ty = g->tile_y[t];
                 if (((f == 0 ? tx : ty) & 1) != parity)
@@ -36,6 +37,8 @@ static int build_edges(const psim_grid *g, dmodel *m)
                 m->edges[m->nedges++] =
                     (dedge){t, g->tile_of_xy[uy * g->TG + ux], dir};
             }
+        }
+    m->level0[EDGE_LEVELS] = m->nedges;
     return 0;
 }
 
@@ -92,6 +95,8 @@ static void tile_state_free(dmodel *m)
     psim_free(m->edge_res);
     psim_free(m->dep);
     psim_free(m->order);
+    free(m->owner);
+    m->owner = NULL;
     m->chunks = NULL, m->tile_chunk0 = NULL, m->tiles = NULL;
     m->edges = NULL, m->edge_res = NULL, m->dep = NULL, m->order = NULL;
     m->ntiles = m->nchunks = 0;
@@ -108,6 +113,8 @@ static int tile_state_build(const psim_sim *e, dmodel *m)
     if (!m->tiles || !m->dep || !m->order || build_edges(&e->grid, m) ||
         build_chunks(&e->grid, m))
         return -1;
+    if (m->ranks > 1 && !(m->owner = calloc(m->ntiles, sizeof *m->owner)))
+        return -1;
     return 0;
 }
 
@@ -123,6 +130,7 @@ static void destroy(void *p)
     psim_free(m->nearwall);
     psim_free(m->work);
     discrete_parts_free(m);
+    discrete_ranks_free(m);
     free(m);
 }
 
@@ -181,6 +189,8 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
     m->gens = (uint32_t)psim_engine_option(e, "gens", 1);
     m->take = psim_engine_option(e, "rounds", 1) != 0;
     m->fl.enabled = psim_engine_option(e, "skip", 1) != 0;
+    if (discrete_ranks_init(e, m))
+        goto oom;
     m->fl.gap = -1;
     m->fl.walls = 1;
     m->fl.quiet = 1;   /* the first drift looks at the velocities */
@@ -323,6 +333,7 @@ const psim_model psim_model_discrete = {
     .output_digits = -1,
     .step_summary = step_summary,
     .follows_order = 1,
+    .shares = 1,
     .limits = limits,
     .create = create,
     .interact = interact,

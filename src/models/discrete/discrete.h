@@ -107,6 +107,21 @@ typedef struct dedge {
     int dir;
 } dedge;
 
+/* The edges come in EDGE_LEVELS levels, contiguous in creation order (a
+ * direction and a parity each): the edges of a level share no tile, and
+ * every edge of a tile runs after those of the levels before. */
+#define EDGE_LEVELS 8
+
+/* Over MPI ranks (ranks.c): an edge whose tiles two ranks own, as this
+ * rank sees it: the edge, the other rank, whether this rank owns its
+ * tile a; the disks of this rank's tile in its contacts (mine, from
+ * m->xdisk + m0) and of the other's (n1 from m->xdisk + m1). */
+typedef struct dxedge {
+    uint32_t k;
+    int q, mine_a, lv;
+    uint32_t m0, n0, m1, n1;
+} dxedge;
+
 /* The model's skips (psim_stats.skipped), in the order of .skips. */
 enum { DS_SEARCH, DS_WALLS, DS_MOVE, DS_GRAPH };
 
@@ -176,7 +191,30 @@ typedef struct dmodel {
                               * (keys: the tile in the low 32 bits) */
     uint32_t norder;
     uint32_t next;           /* the next of them to take */
+    size_t level0[EDGE_LEVELS + 1];   /* each level's first edge */
+    /* over MPI ranks (ranks.c): every rank holds every disk, and each
+     * resolves the tiles it owns this step */
+    int ranks, rank;
+    int *owner;              /* per tile: its rank this step */
+    size_t *at;              /* ranks + 1: rank q owns the store places
+                              * [at[q], at[q + 1]) (its tiles') */
+    dxedge *xe;              /* the edges across this rank's side, in order */
+    size_t nxe, xe_cap;
+    uint32_t *xdisk;         /* their disks (dxedge) */
+    size_t nxdisk, xdisk_cap;
+    uint32_t *xstamp;        /* per disk: the edge that last listed it */
+    uint32_t xnow;           /* (the latest stamp) */
+    size_t xn;               /* disks xstamp holds */
+    void *sbuf, *rbuf;       /* messages, kept (grow only) */
+    size_t sbuf_cap, rbuf_cap;
+    size_t *sbytes;          /* 2 x ranks: bytes to and from each rank */
 } dmodel;
+
+/* Whether this rank owns tile t (always in one process). */
+static inline int discrete_mine(const dmodel *m, uint32_t t)
+{
+    return m->ranks < 2 || m->owner[t] == m->rank;
+}
 
 /* Most parts of one tile's resolution (resolve.c). */
 #define PARTS_MAX 255
@@ -230,10 +268,41 @@ void discrete_walls_only(psim_sim *e, dmodel *m);
 /* A step resolved `total` collisions: the largest step, and whether it
  * changed no velocity. */
 void discrete_step_resolved(psim_sim *e, dmodel *m, uint64_t total);
-void discrete_unsettled(const psim_sim *e, dmodel *m, dgroup *g);
+void discrete_unsettled(psim_sim *e, dmodel *m, dgroup *g);
 /* Returns 0, or -1 when collisions did not settle (m->budget). */
 int discrete_resolve(psim_sim *e, dmodel *m);
 int discrete_check(psim_sim *e, void *m, const psim_snapshot *before,
                    const psim_snapshot *after, psim_error *err);
+
+/* ranks.c: the model over MPI ranks.  Each rank holds every disk; the
+ * tiles go to the ranks in runs of their order, split by disks; a rank
+ * searches and resolves its own tiles, and runs every edge that touches
+ * one of them, an edge across two ranks on both, each with the other's
+ * disks' velocities received just before the edge's level. */
+int discrete_ranks_init(const psim_sim *e, dmodel *m);
+void discrete_ranks_free(dmodel *m);
+/* After the sort: each tile's rank (tiles' p0, p1 set). */
+void discrete_ranks_own(const psim_sim *e, dmodel *m);
+/* After the search of the rank's own tiles: the counts summed and the
+ * nearest pair over the ranks, and the contacts of the edges across two
+ * ranks sent to both.  0, or -1 when out of memory (on any rank). */
+int discrete_ranks_contacts(psim_sim *e, dmodel *m, uint64_t *found, uint64_t *tests,
+                            double *d2min);
+/* One round's edges at level lv: the other ranks' disks of this level's
+ * edges across ranks received, then the edges that touch this rank's
+ * tiles run; returns how many of them this rank counts. */
+uint64_t discrete_ranks_level(psim_sim *e, dmodel *m, int lv, int first);
+/* After a round's tiles: the flags of the tiles across ranks exchanged. */
+void discrete_ranks_flags(psim_sim *e, dmodel *m);
+/* After the resolution: every rank's velocities to every rank. */
+void discrete_ranks_sync(psim_sim *e, dmodel *m);
+/* The work counted on every rank, summed (balance.c). */
+void discrete_ranks_work(psim_sim *e, dmodel *m);
+/* The disks still approaching (discrete_unsettled), over the ranks:
+ * marks (m->flag) put together on every rank. */
+void discrete_ranks_marks(psim_sim *e, dmodel *m);
+/* Run edge k (resolve.c). */
+void discrete_edge(const psim_sim *e, dmodel *m, size_t k, int first);
+int discrete_edge_runs(const dmodel *m, size_t k, int first);
 
 #endif

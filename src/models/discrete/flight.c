@@ -212,7 +212,7 @@ void discrete_walls_only(psim_sim *e, dmodel *m)
             psim_wall_resolve(s->x[i], s->y[i], &s->vx[i], &s->vy[i], L, r);
             res++;
         }
-    e->stats.counter[DC_WALL_RES] += res;
+    e->stats.counter[DC_WALL_RES] += m->rank == 0 ? res : 0;   /* (every rank's: summed) */
     discrete_step_resolved(e, m, res);
 }
 

@@ -8,6 +8,7 @@
 #include "collide.h"
 #include "discrete.h"
 #include "../../engine/mem.h"
+#include "../../engine/poll.h"
 #include "../../engine/task.h"
 #include "../../engine/tstats.h"
 
@@ -317,6 +318,11 @@ static void timed_edge(const psim_sim *e, dmodel *m, size_t k, int first)
     psim_tstat_add(e->tstats, DPHASE_RESOLVE, psim_now() - t0, 1, 0);
 }
 
+void discrete_edge(const psim_sim *e, dmodel *m, size_t k, int first)
+{
+    timed_edge(e, m, k, first);
+}
+
 /* One tile and more threads (the course's 10k scenes): with positions
  * frozen, the contacts are fixed for the step, and a pop reads and writes
  * only disks of its own component of the contact graph; the FIFO keeps
@@ -554,6 +560,11 @@ static int edge_runs(const dmodel *m, const dedge *ed, int first)
             b->changed_cross_prev);
 }
 
+int discrete_edge_runs(const dmodel *m, size_t k, int first)
+{
+    return edge_runs(m, &m->edges[k], first);
+}
+
 /* Run the round's tiles; returns how many. */
 static uint64_t round_tiles(const psim_sim *e, dmodel *m, int first)
 {
@@ -563,7 +574,8 @@ static uint64_t round_tiles(const psim_sim *e, dmodel *m, int first)
         dtile *t = &m->tiles[ti];
         t->changed_border = 0;
         t->round_res = 0;
-        t->scheduled = t->p0 != t->p1 && (first || t->nact || t->qcount);
+        t->scheduled = t->p0 != t->p1 && (first || t->nact || t->qcount) &&
+                       discrete_mine(m, ti);
         tiles += t->scheduled;
     }
     if (graph && m->take && m->ntiles > 1) {
@@ -583,6 +595,21 @@ static uint64_t round_tiles(const psim_sim *e, dmodel *m, int first)
             task_spawn_tile(e, m, t, ti, first);
     }
     return tiles + extra;
+}
+
+/* One round over ranks: the rank's tiles, then the edges that touch
+ * them, level by level, each level after the disks of its edges across
+ * ranks came (ranks.c); returns the work items this rank counts. */
+static uint64_t ranks_round(psim_sim *e, dmodel *m, int first)
+{
+    uint64_t tasks = round_tiles(e, m, first);
+#pragma omp taskwait
+    for (size_t k = 0; k < m->nedges; k++)
+        m->edge_res[k] = 0;
+    discrete_ranks_flags(e, m);
+    for (int lv = 0; lv < EDGE_LEVELS; lv++)
+        tasks += discrete_ranks_level(e, m, lv, first);
+    return tasks;
 }
 
 /* Emit one round: its tiles, then its edges (with one thread, or a round
@@ -610,6 +637,8 @@ static uint64_t emit_round(const psim_sim *e, dmodel *m, int first)
     return tasks;
 }
 
+/* The round's resolutions (over ranks, of this rank's tiles and of the
+ * edges whose tile a it owns). */
 static uint64_t round_total(dmodel *m)
 {
     uint64_t res = 0;
@@ -620,7 +649,7 @@ static uint64_t round_total(dmodel *m)
         t->changed_cross_cur = 0;
     }
     for (size_t k = 0; k < m->nedges; k++)
-        res += m->edge_res[k];
+        res += discrete_mine(m, m->edges[k].a) ? m->edge_res[k] : 0;
     return res;
 }
 
@@ -661,16 +690,25 @@ __attribute__((noinline)) int discrete_resolve(psim_sim *e, dmodel *m)
     /* rounds of few resolutions each poll every PSIM_POLL_WORK of them
      * (their worklists and edges count them) */
     uint64_t look = PSIM_POLL_WORK;
+    /* (the main thread makes the rounds: over ranks it sends and receives) */
 #pragma omp parallel num_threads(e->threads) if (e->threads > 1)
-#pragma omp single
+#pragma omp master
     {
         for (int first = 1;; first = 0) {
-            tasks += emit_round(e, m, first);
+            tasks += m->ranks > 1 ? ranks_round(e, m, first) : emit_round(e, m, first);
 #pragma omp taskwait
             rounds++;
             uint64_t res = round_total(m);
+            int diverged = any_diverged(m);
+            if (m->ranks > 1) {   /* every rank's, and a stop asked on any */
+                double v[3] = {(double)res, diverged, psim_stop_requested()};
+                psim_engine_reduce(e, v, 3, NULL, 0);
+                res = (uint64_t)v[0], diverged = v[1] > 0;
+                if (v[2] > 0)
+                    psim_request_stop();
+            }
             total += res;
-            if (any_diverged(m) || total > budget) {
+            if (diverged || total > budget) {
                 settled = 0;
                 break;
             }
@@ -686,13 +724,17 @@ __attribute__((noinline)) int discrete_resolve(psim_sim *e, dmodel *m)
         }
     }
     mark_border(m, 0);
+    if (m->ranks > 1)
+        discrete_ranks_sync(e, m);
     for (uint32_t ti = 0; ti < m->ntiles; ti++) {
         const dtile *t = &m->tiles[ti];
+        if (!discrete_mine(m, ti))
+            continue;
         e->stats.counter[DC_PAIR_CHECKS] += t->checks;
         e->stats.counter[DC_PAIR_RES] += t->pair_res;
         e->stats.counter[DC_WALL_RES] += t->wall_res;
     }
-    e->stats.counter[DC_ROUNDS] += rounds;
+    e->stats.counter[DC_ROUNDS] += m->rank == 0 ? rounds : 0;   /* (summed over ranks) */
     if (rounds > e->stats.counter[DC_MAX_ROUNDS])
         e->stats.counter[DC_MAX_ROUNDS] = rounds;
     e->stats.counter[DC_TASKS] += tasks;
@@ -732,15 +774,26 @@ static void group_list(const psim_sim *e, dmodel *m, dgroup *g, const dlist *l)
 }
 
 /* After a step gave up (serial; the flags are free again). */
-void discrete_unsettled(const psim_sim *e, dmodel *m, dgroup *g)
+void discrete_unsettled(psim_sim *e, dmodel *m, dgroup *g)
 {
     *g = (dgroup){0};
     memset(m->flag, 0, (size_t)e->n + 1);
     for (uint32_t ti = 0; ti < m->ntiles; ti++) {
         const dtile *t = &m->tiles[ti];
+        if (!discrete_mine(m, ti))
+            continue;
         group_list(e, m, g, &t->in);
         for (int d = 0; d < DIRS; d++)
             group_list(e, m, g, &t->cross[d]);
+    }
+    if (m->ranks > 1) {   /* every rank's marks, and the group of them all */
+        discrete_ranks_marks(e, m);
+        *g = (dgroup){0};
+        for (long k = 0; k < e->n; k++)
+            if (m->flag[k]) {
+                m->flag[k] = 0;
+                group_add(e, m, g, (int32_t)k);
+            }
     }
     memset(m->flag, 0, (size_t)e->n + 1);
 }

@@ -1,0 +1,382 @@
+/* The discrete model over MPI ranks (discrete.h; docs/scale-out.md).
+ *
+ * Every rank holds every disk and drifts, sorts and tiles them as one
+ * process does, so the tiles, their contacts and their order are the same
+ * on every rank.  The tiles go to the ranks in runs of the tiles' order
+ * (their disks are a run of the store), split by disks.  A rank searches
+ * its own tiles and resolves them round by round as one process does; a
+ * round's edges run level by level (EDGE_LEVELS): an edge between two
+ * tiles of one rank on that rank, an edge across two ranks on both, each
+ * after the other rank's disks of that edge came with the velocities they
+ * have after the edges of the levels before.  The two runs of an edge
+ * across ranks start from the same velocities and do the same
+ * arithmetic, so each rank ends with its own tile's velocities exactly
+ * as one process would; its tile's share of the edge's work (the
+ * activations, the counts) it keeps, the other tile's it drops.  So every
+ * tile sees the same sequence of updates as in one process, and the
+ * bytes are the same for any number of ranks.  After the step every rank
+ * sends its disks' velocities to every rank. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "discrete.h"
+#include "../../engine/mem.h"
+
+int discrete_ranks_init(const psim_sim *e, dmodel *m)
+{
+    m->ranks = psim_engine_ranks(e);
+    m->rank = psim_engine_rank(e);
+    if (m->ranks < 2)
+        return 0;
+    m->at = calloc((size_t)m->ranks + 1, sizeof *m->at);
+    m->sbytes = calloc(2 * (size_t)m->ranks, sizeof *m->sbytes);
+    m->xn = (size_t)e->n + 1;
+    m->xstamp = calloc(m->xn, sizeof *m->xstamp);
+    return m->at && m->sbytes && m->xstamp ? 0 : -1;
+}
+
+void discrete_ranks_free(dmodel *m)
+{
+    free(m->at), free(m->sbytes), free(m->xstamp), free(m->xe), free(m->xdisk);
+    free(m->sbuf), free(m->rbuf);
+    m->at = NULL, m->sbytes = NULL, m->xstamp = NULL, m->xe = NULL, m->xdisk = NULL;
+    m->sbuf = m->rbuf = NULL;
+}
+
+void discrete_ranks_own(const psim_sim *e, dmodel *m)
+{
+    if (m->ranks < 2)
+        return;
+    const int R = m->ranks;
+    const uint64_t n = (uint64_t)e->n;
+    for (int q = 0; q < R; q++)
+        m->at[q] = SIZE_MAX;
+    m->at[R] = (size_t)n;
+    for (uint32_t t = 0; t < m->ntiles; t++) {
+        const dtile *d = &m->tiles[t];
+        /* the rank whose share of the disks holds the tile's middle */
+        uint64_t mid = ((uint64_t)d->p0 + d->p1) / 2;
+        int q = n ? (int)(mid * (uint64_t)R / n) : 0;
+        q = q < R ? q : R - 1;
+        m->owner[t] = q;
+        if (d->p0 < m->at[q])
+            m->at[q] = d->p0;
+    }
+    for (int q = R - 1; q >= 0; q--)   /* a rank without tiles: an empty run */
+        if (m->at[q] > m->at[q + 1])
+            m->at[q] = m->at[q + 1];
+}
+
+/* Room for n bytes in a kept buffer. */
+static void *room(void **p, size_t *cap, size_t n)
+{
+    if (psim_reserve(p, cap, n ? n : 1, 1))
+        return NULL;
+    return *p;
+}
+
+static const dlist *side_list(const dmodel *m, const dxedge *x, int mine)
+{
+    const dedge *ed = &m->edges[x->k];
+    return (x->mine_a == mine) ? &m->tiles[ed->a].cross[ed->dir]
+                               : &m->tiles[ed->b].cross[DIR_OPP(ed->dir)];
+}
+
+/* The edges across this rank's side, in creation order. */
+static int list_cross(dmodel *m)
+{
+    m->nxe = 0;
+    for (size_t k = 0; k < m->nedges; k++) {
+        const dedge *ed = &m->edges[k];
+        int oa = m->owner[ed->a], ob = m->owner[ed->b];
+        if (oa == ob || (oa != m->rank && ob != m->rank))
+            continue;
+        if (psim_reserve((void **)&m->xe, &m->xe_cap, m->nxe + 1, sizeof *m->xe))
+            return -1;
+        m->xe[m->nxe++] = (dxedge){.k = (uint32_t)k, .q = oa == m->rank ? ob : oa,
+                                   .mine_a = oa == m->rank};
+    }
+    return 0;
+}
+
+/* The disks of a list in tile t (mine) or not, each once, appended to
+ * m->xdisk in the order of the lists (the same order on both ranks). */
+static int list_disks(dmodel *m, const dlist *const *l, const dtile *t, int in_t)
+{
+    if (++m->xnow == 0) {   /* the stamps wrapped */
+        memset(m->xstamp, 0, m->xn * sizeof *m->xstamp);
+        m->xnow = 1;
+    }
+    for (int s = 0; s < 2; s++)
+        for (size_t c = 0; c < l[s]->n; c++)
+            for (int h = 0; h < 2; h++) {
+                uint32_t i = (uint32_t)(h ? l[s]->c[c].j : l[s]->c[c].i);
+                if (m->xstamp[i] == m->xnow || ((i >= t->p0 && i < t->p1) != in_t))
+                    continue;
+                m->xstamp[i] = m->xnow;
+                if (psim_reserve((void **)&m->xdisk, &m->xdisk_cap, m->nxdisk + 1,
+                                 sizeof *m->xdisk))
+                    return -1;
+                m->xdisk[m->nxdisk++] = i;
+            }
+    return 0;
+}
+
+/* Bytes of the records for each rank: per record, `each` bytes, or the
+ * sizes size(x) sum; into m->sbytes (to) and m->sbytes + R (from). */
+static void clear_bytes(dmodel *m)
+{
+    memset(m->sbytes, 0, 2 * (size_t)m->ranks * sizeof *m->sbytes);
+}
+
+int discrete_ranks_contacts(psim_sim *e, dmodel *m, uint64_t *found, uint64_t *tests,
+                            double *d2min)
+{
+    const int R = m->ranks;
+    int oom = 0;
+    for (uint32_t t = 0; t < m->ntiles; t++) {
+        dtile *d = &m->tiles[t];
+        if (discrete_mine(m, t)) {
+            oom |= d->oom;
+            continue;
+        }
+        d->in.n = 0;   /* another rank's: only what it sends is here */
+        for (int k = 0; k < DIRS; k++)
+            d->cross[k].n = 0;
+    }
+    oom |= list_cross(m) != 0;
+    double v[3] = {(double)*found, (double)*tests, oom};
+    psim_engine_reduce(e, v, 3, d2min, 1);
+    *found = (uint64_t)v[0], *tests = (uint64_t)v[1];
+    if (v[2] > 0)
+        return -1;
+    /* the sizes of the lists, then the lists: each rank sends its side's */
+    size_t *to = m->sbytes, *from = m->sbytes + R;
+    clear_bytes(m);
+    for (size_t r = 0; r < m->nxe; r++)
+        to[m->xe[r].q] += sizeof(uint64_t), from[m->xe[r].q] += sizeof(uint64_t);
+    uint64_t *sn = room(&m->sbuf, &m->sbuf_cap, m->nxe * sizeof *sn);
+    uint64_t *rn = room(&m->rbuf, &m->rbuf_cap, m->nxe * sizeof *rn);
+    if (!sn || !rn)
+        psim_dist_out_of_memory("the contacts across ranks");
+    size_t at = 0;
+    for (int q = 0; q < R; q++)
+        for (size_t r = 0; r < m->nxe; r++)
+            if (m->xe[r].q == q)
+                sn[at++] = side_list(m, &m->xe[r], 1)->n;
+    psim_engine_sendrecv(e, sn, to, rn, from);
+    /* (rn by rank, then record: the other side's list sizes) */
+    size_t *count = malloc((m->nxe ? m->nxe : 1) * sizeof *count);
+    if (!count)
+        psim_dist_out_of_memory("the contacts across ranks");
+    at = 0;
+    for (int q = 0; q < R; q++)
+        for (size_t r = 0; r < m->nxe; r++)
+            if (m->xe[r].q == q)
+                count[r] = (size_t)rn[at++];
+    clear_bytes(m);
+    size_t sall = 0, rall = 0;
+    for (size_t r = 0; r < m->nxe; r++) {
+        size_t s = side_list(m, &m->xe[r], 1)->n * sizeof(dcontact);
+        to[m->xe[r].q] += s, sall += s;
+        from[m->xe[r].q] += count[r] * sizeof(dcontact), rall += count[r] * sizeof(dcontact);
+    }
+    char *sb = room(&m->sbuf, &m->sbuf_cap, sall), *rb = room(&m->rbuf, &m->rbuf_cap, rall);
+    if (!sb || !rb)
+        psim_dist_out_of_memory("the contacts across ranks");
+    size_t so = 0;
+    for (int q = 0; q < R; q++)
+        for (size_t r = 0; r < m->nxe; r++)
+            if (m->xe[r].q == q) {
+                const dlist *l = side_list(m, &m->xe[r], 1);
+                memcpy(sb + so, l->c, l->n * sizeof(dcontact));
+                so += l->n * sizeof(dcontact);
+            }
+    psim_engine_sendrecv(e, sb, to, rb, from);
+    size_t ro = 0;
+    for (int q = 0; q < R; q++)
+        for (size_t r = 0; r < m->nxe; r++)
+            if (m->xe[r].q == q) {
+                dlist *l = (dlist *)side_list(m, &m->xe[r], 0);
+                if (psim_reserve((void **)&l->c, &l->cap, count[r] + 1, sizeof *l->c))
+                    psim_dist_out_of_memory("the contacts across ranks");
+                memcpy(l->c, rb + ro, count[r] * sizeof(dcontact));
+                l->n = count[r];
+                ro += count[r] * sizeof(dcontact);
+            }
+    free(count);
+    /* each edge's disks on either side, and room for the other tile's
+     * activations (dropped after each edge) */
+    m->nxdisk = 0;
+    for (size_t r = 0; r < m->nxe; r++) {
+        dxedge *x = &m->xe[r];
+        const dedge *ed = &m->edges[x->k];
+        const dlist *l[2] = {&m->tiles[ed->a].cross[ed->dir],
+                             &m->tiles[ed->b].cross[DIR_OPP(ed->dir)]};
+        dtile *mt = &m->tiles[x->mine_a ? ed->a : ed->b];
+        dtile *ot = &m->tiles[x->mine_a ? ed->b : ed->a];
+        x->m0 = (uint32_t)m->nxdisk;
+        if (list_disks(m, l, mt, 1))
+            psim_dist_out_of_memory("the contacts across ranks");
+        x->n0 = (uint32_t)m->nxdisk - x->m0;
+        x->m1 = (uint32_t)m->nxdisk;
+        if (list_disks(m, l, mt, 0))
+            psim_dist_out_of_memory("the contacts across ranks");
+        x->n1 = (uint32_t)m->nxdisk - x->m1;
+        x->lv = 0;
+        while (x->lv + 1 < EDGE_LEVELS && m->level0[x->lv + 1] <= x->k)
+            x->lv++;
+        if (psim_reserve((void **)&ot->acts, &ot->acts_cap, (size_t)(ot->p1 - ot->p0) + 1,
+                         sizeof *ot->acts))
+            psim_dist_out_of_memory("the contacts across ranks");
+        ot->nact = 0;
+    }
+    return 0;
+}
+
+/* A tile's flags that edges across ranks read. */
+enum { XF_SCHEDULED = 1, XF_BORDER = 2, XF_CROSS_PREV = 4 };
+
+void discrete_ranks_flags(psim_sim *e, dmodel *m)
+{
+    const int R = m->ranks;
+    size_t *to = m->sbytes, *from = m->sbytes + R;
+    clear_bytes(m);
+    for (size_t r = 0; r < m->nxe; r++)
+        to[m->xe[r].q]++, from[m->xe[r].q]++;
+    uint8_t *sb = room(&m->sbuf, &m->sbuf_cap, m->nxe), *rb = room(&m->rbuf, &m->rbuf_cap, m->nxe);
+    if (!sb || !rb)
+        psim_dist_out_of_memory("the flags across ranks");
+    size_t at = 0;
+    for (int q = 0; q < R; q++)
+        for (size_t r = 0; r < m->nxe; r++)
+            if (m->xe[r].q == q) {
+                const dedge *ed = &m->edges[m->xe[r].k];
+                const dtile *t = &m->tiles[m->xe[r].mine_a ? ed->a : ed->b];
+                sb[at++] = (uint8_t)((t->scheduled ? XF_SCHEDULED : 0) |
+                                     (t->changed_border ? XF_BORDER : 0) |
+                                     (t->changed_cross_prev ? XF_CROSS_PREV : 0));
+            }
+    psim_engine_sendrecv(e, sb, to, rb, from);
+    at = 0;
+    for (int q = 0; q < R; q++)
+        for (size_t r = 0; r < m->nxe; r++)
+            if (m->xe[r].q == q) {
+                const dedge *ed = &m->edges[m->xe[r].k];
+                dtile *t = &m->tiles[m->xe[r].mine_a ? ed->b : ed->a];
+                uint8_t f = rb[at++];
+                t->scheduled = (f & XF_SCHEDULED) != 0;
+                t->changed_border = (f & XF_BORDER) != 0;
+                t->changed_cross_prev = (f & XF_CROSS_PREV) != 0;
+            }
+}
+
+/* Forget what an edge did to another rank's tile t: its owner keeps it. */
+static void drop_other(dmodel *m, dtile *t)
+{
+    for (uint32_t j = 0; j < t->nact; j++)
+        m->active[t->acts[j]] = 0;
+    t->nact = 0;
+}
+
+uint64_t discrete_ranks_level(psim_sim *e, dmodel *m, int lv, int first)
+{
+    const int R = m->ranks;
+    size_t *to = m->sbytes, *from = m->sbytes + R;
+    clear_bytes(m);
+    size_t sall = 0, rall = 0;
+    for (size_t r = 0; r < m->nxe; r++) {
+        const dxedge *x = &m->xe[r];
+        if (x->lv != lv || !discrete_edge_runs(m, x->k, first))
+            continue;
+        to[x->q] += 2 * sizeof(double) * x->n0, sall += 2 * sizeof(double) * x->n0;
+        from[x->q] += 2 * sizeof(double) * x->n1, rall += 2 * sizeof(double) * x->n1;
+    }
+    if (sall || rall) {   /* the disks of this level's edges across ranks */
+        double *sb = room(&m->sbuf, &m->sbuf_cap, sall), *rb = room(&m->rbuf, &m->rbuf_cap, rall);
+        if (!sb || !rb)
+            psim_dist_out_of_memory("the velocities across ranks");
+        const double *vx = e->st.vx, *vy = e->st.vy;
+        size_t so = 0;
+        for (int q = 0; q < R; q++)
+            for (size_t r = 0; r < m->nxe; r++) {
+                const dxedge *x = &m->xe[r];
+                if (x->q != q || x->lv != lv || !discrete_edge_runs(m, x->k, first))
+                    continue;
+                for (uint32_t h = 0; h < x->n0; h++) {
+                    uint32_t i = m->xdisk[x->m0 + h];
+                    sb[so++] = vx[i], sb[so++] = vy[i];
+                }
+            }
+        psim_engine_sendrecv(e, sb, to, rb, from);
+        size_t ro = 0;
+        for (int q = 0; q < R; q++)
+            for (size_t r = 0; r < m->nxe; r++) {
+                const dxedge *x = &m->xe[r];
+                if (x->q != q || x->lv != lv || !discrete_edge_runs(m, x->k, first))
+                    continue;
+                for (uint32_t h = 0; h < x->n1; h++) {
+                    uint32_t i = m->xdisk[x->m1 + h];
+                    e->st.vx[i] = rb[ro++], e->st.vy[i] = rb[ro++];
+                }
+            }
+    }
+    uint64_t tasks = 0;
+    for (size_t k = m->level0[lv]; k < m->level0[lv + 1]; k++) {
+        const dedge *ed = &m->edges[k];
+        const int ma = discrete_mine(m, ed->a), mb = discrete_mine(m, ed->b);
+        if ((!ma && !mb) || !discrete_edge_runs(m, k, first))
+            continue;
+        /* the edge's work is counted where its tile a is */
+        uint32_t *counting = m->counting;
+        if (!ma)
+            m->counting = NULL;
+        discrete_edge(e, m, k, first);
+        m->counting = counting;
+        tasks += ma;
+        if (!ma)
+            drop_other(m, &m->tiles[ed->a]);
+        if (!mb)
+            drop_other(m, &m->tiles[ed->b]);
+    }
+    return tasks;
+}
+
+void discrete_ranks_sync(psim_sim *e, dmodel *m)
+{
+    double *const v[2] = {e->st.vx, e->st.vy};
+    psim_engine_allgather(e, v, 2, m->at);
+}
+
+/* A per-disk array of counts summed over the ranks. */
+static void sum_counts(psim_sim *e, uint32_t *a, size_t n, const char *what)
+{
+    double *d = malloc((n ? n : 1) * sizeof *d);
+    if (!d)
+        psim_dist_out_of_memory(what);
+    for (size_t k = 0; k < n; k++)
+        d[k] = a[k];
+    psim_engine_reduce(e, d, (int)n, NULL, 0);
+    for (size_t k = 0; k < n; k++)
+        a[k] = (uint32_t)d[k];
+    free(d);
+}
+
+void discrete_ranks_work(psim_sim *e, dmodel *m)
+{
+    sum_counts(e, m->work, (size_t)e->n, "the work of the tiles");
+}
+
+void discrete_ranks_marks(psim_sim *e, dmodel *m)
+{
+    const size_t n = (size_t)e->n;
+    double *d = malloc((n ? n : 1) * sizeof *d);
+    if (!d)
+        psim_dist_out_of_memory("the disks that did not settle");
+    for (size_t k = 0; k < n; k++)
+        d[k] = m->flag[k] != 0;
+    psim_engine_reduce(e, d, (int)n, NULL, 0);
+    for (size_t k = 0; k < n; k++)
+        m->flag[k] = d[k] > 0;
+    free(d);
+}
