@@ -11,11 +11,13 @@
 #                      cores, for each discrete scene found in SCENES_DIR
 #   tiles.md           the discrete 0.9 scenes at the largest thread count
 #                      with smaller tiles than the default
-#   ranks.md           the force model at 1e6 particles over MPI ranks x
-#                      threads (R*T up to the largest thread count),
-#                      mpirun --bind-to none, psim --pin=cores: wall time
-#                      and the bytes against one process (skipped, with
-#                      a line saying why, without mpirun or an MPI build)
+#   ranks.md           every model that runs over MPI ranks (force at 1e6
+#                      particles, discrete on the 100k scenes, ccd on
+#                      20000 generated disks) over ranks x threads (R*T
+#                      up to the largest thread count), mpirun --bind-to
+#                      none, psim --pin=cores: wall and steps' time and
+#                      the bytes against one process (skipped, with a
+#                      line saying why, without mpirun or an MPI build)
 #   event.md           bench/event_bench.sh (one core, collisions/s)
 #   log.txt            what every step printed, with its wall time
 #
@@ -118,12 +120,70 @@ force() {
         --plot "$out/force.png" "$build" > "$out/force.md"
 }
 
-# ranks: 1e6 particles, layouts R x T with R*T = the largest thread
-# count (R = 1, 2, 4, ... up to it) and 1 x 1; every layout under mpirun
-# (its start-up in every figure), the median of 3 runs, the layouts'
-# runs interleaved; the -o bytes of a shorter run against one process.
+# ranks: every model that runs over ranks, layouts R x T with R*T = the
+# largest thread count (R = 1, 2, 4, ... up to it) and 1 x 1; every layout
+# under mpirun (its start-up in every figure), the median of 3 runs, the
+# layouts' runs interleaved; the wall time and the steps' time from psim's
+# summary; the -o bytes of a shorter run against one process.
+ranks_case() {   # TITLE STEPS CHECK ARGS...: one model's table
+    local title=$1 steps=$2 check=$3 reps=3 r t lay k
+    shift 3
+    local mpi=(mpirun -q --oversubscribe --bind-to none)
+    rm -f "$tmp/ranks.times"
+    "$psim" "$@" --steps "$check" --threads 1 -q -o "$tmp/one.txt"
+    for ((k = 1; k <= reps; k++)); do
+        for lay in $layouts; do
+            r=${lay%x*} t=${lay#*x}
+            local t0 t1 secs
+            t0=$(date +%s.%N)
+            "${mpi[@]}" -np "$r" "$psim" "$@" --steps "$steps" --threads "$t" --pin=cores \
+                > "$tmp/summary"
+            t1=$(date +%s.%N)
+            secs=$(awk '/ steps on .* threads in / { for (i = 1; i <= NF; i++) if ($i == "in") print $(i + 1) }' \
+                "$tmp/summary" | head -1)
+            awk -v l="$lay" -v a="$t0" -v b="$t1" -v s="${secs:-0}" 'BEGIN { print l, b - a, s }' \
+                >> "$tmp/ranks.times"
+        done
+    done
+    echo "### $title over MPI ranks x threads"
+    echo
+    echo "$steps steps; wall: the whole run (mpirun's start-up, the scene, the steps);"
+    echo "steps: psim's own time of the steps; medians of $reps, layouts interleaved;"
+    echo "bytes: the -o output of $check steps against one process (\`--threads 1\`, no mpirun)."
+    echo
+    echo "| ranks x threads | wall s | steps s | speed-up of the steps over 1x1 | -o bytes |"
+    echo "|---|---:|---:|---:|---|"
+    local base="" med wall same
+    for lay in $layouts; do
+        r=${lay%x*} t=${lay#*x}
+        wall=$(awk -v l="$lay" '$1 == l { print $2 }' "$tmp/ranks.times" | sort -g |
+            awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }')
+        med=$(awk -v l="$lay" '$1 == l { print $3 }' "$tmp/ranks.times" | sort -g |
+            awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }')
+        [ -n "$base" ] || base=$med
+        rm -f "$tmp/r.txt"
+        if "${mpi[@]}" -np "$r" "$psim" "$@" --steps "$check" --threads "$t" --pin=cores -q \
+            -o "$tmp/r.txt" && cmp -s "$tmp/one.txt" "$tmp/r.txt"; then
+            same="same as one process"
+        else
+            same="DIFFERENT from one process"
+        fi
+        printf '| %s | %.3f | %.3f | %.2f | %s |\n' "$lay" "$wall" "$med" \
+            "$(awk -v a="$base" -v b="$med" 'BEGIN { print (b > 0) ? a / b : 0 }')" "$same"
+    done
+    echo
+    echo "commands (R x T each layout):"
+    echo
+    echo '```sh'
+    echo "${mpi[*]} -np R $psim $* --steps $steps --threads T --pin=cores"
+    echo "${mpi[*]} -np R $psim $* --steps $check --threads T --pin=cores -q -o r.txt"
+    echo "$psim $* --steps $check --threads 1 -q -o one.txt; cmp one.txt r.txt"
+    echo '```'
+    echo
+}
+
 ranks() {
-    local n=1000000 steps=100 check=20 reps=3 r t lay layouts="1x1" k
+    local r t layouts="1x1"
     if ! command -v mpirun > /dev/null; then
         echo "ranks: skipped: no mpirun (Debian: openmpi-bin)" | tee "$out/ranks.md"
         return 0
@@ -139,51 +199,14 @@ ranks() {
         t=$((top / r))
         [ "${r}x$t" = 1x1 ] || layouts="$layouts ${r}x$t"
     done
-    local mpi=(mpirun -q --oversubscribe --bind-to none)
-    "$psim" --model force -n "$n" --seed 1 --steps "$check" --threads 1 -q -o "$tmp/one.txt"
-    for ((k = 1; k <= reps; k++)); do
-        for lay in $layouts; do
-            r=${lay%x*} t=${lay#*x}
-            local t0 t1
-            t0=$(date +%s.%N)
-            "${mpi[@]}" -np "$r" "$psim" --model force -n "$n" --seed 1 --steps "$steps" \
-                --threads "$t" --pin=cores -q
-            t1=$(date +%s.%N)
-            awk -v l="$lay" -v a="$t0" -v b="$t1" 'BEGIN { print l, b - a }' >> "$tmp/ranks.times"
-        done
-    done
+    printf '20000\n3000\n1\n100\nperf\n' > "$tmp/ccd20k.in"   # rand()-made disks
     {
-        echo "### The force model over MPI ranks x threads"
-        echo
-        echo "$n particles, $steps steps, wall time of the whole run (mpirun's start-up,"
-        echo "the scene made on every rank, the steps), median of $reps, layouts interleaved;"
-        echo "bytes: the -o output of $check steps against one process (\`--threads 1\`, no mpirun)."
-        echo
-        echo "| ranks x threads | wall s (median of $reps) | speed-up over 1x1 | -o bytes |"
-        echo "|---|---:|---:|---|"
-        local base="" med same
-        for lay in $layouts; do
-            r=${lay%x*} t=${lay#*x}
-            med=$(awk -v l="$lay" '$1 == l { print $2 }' "$tmp/ranks.times" | sort -g |
-                awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }')
-            [ -n "$base" ] || base=$med
-            rm -f "$tmp/r.txt"
-            if "${mpi[@]}" -np "$r" "$psim" --model force -n "$n" --seed 1 --steps "$check" \
-                --threads "$t" --pin=cores -q -o "$tmp/r.txt" && cmp -s "$tmp/one.txt" "$tmp/r.txt"; then
-                same="same as one process"
-            else
-                same="DIFFERENT from one process"
-            fi
-            printf '| %s | %.3f | %.2f | %s |\n' "$lay" "$med" "$(awk -v a="$base" -v b="$med" 'BEGIN { print a / b }')" "$same"
+        ranks_case "The force model, 1e6 particles" 100 20 --model force -n 1000000 --seed 1
+        local s
+        for s in "$scenes"/large/100k_density_0.7.in "$scenes"/large/100k_density_0.9.in; do
+            [ -f "$s" ] && ranks_case "The discrete model, $(basename "$s")" 100 20 "$s"
         done
-        echo
-        echo "commands (R x T each layout):"
-        echo
-        echo '```sh'
-        echo "${mpi[*]} -np R $psim --model force -n $n --seed 1 --steps $steps --threads T --pin=cores -q"
-        echo "${mpi[*]} -np R $psim --model force -n $n --seed 1 --steps $check --threads T --pin=cores -q -o r.txt"
-        echo "$psim --model force -n $n --seed 1 --steps $check --threads 1 -q -o one.txt; cmp one.txt r.txt"
-        echo '```'
+        ranks_case "The ccd model, 20000 generated disks" 100 20 "$tmp/ccd20k.in"
     } > "$out/ranks.md"
 }
 
