@@ -95,8 +95,8 @@ static void tile_state_free(dmodel *m)
     psim_free(m->edge_res);
     psim_free(m->dep);
     psim_free(m->order);
-    free(m->owner);
-    m->owner = NULL;
+    free(m->owner), free(m->tcost), free(m->tflags);
+    m->owner = NULL, m->tcost = NULL, m->tflags = NULL;
     m->chunks = NULL, m->tile_chunk0 = NULL, m->tiles = NULL;
     m->edges = NULL, m->edge_res = NULL, m->dep = NULL, m->order = NULL;
     m->ntiles = m->nchunks = 0;
@@ -113,7 +113,9 @@ static int tile_state_build(const psim_sim *e, dmodel *m)
     if (!m->tiles || !m->dep || !m->order || build_edges(&e->grid, m) ||
         build_chunks(&e->grid, m))
         return -1;
-    if (m->ranks > 1 && !(m->owner = calloc(m->ntiles, sizeof *m->owner)))
+    if (m->ranks > 1 && (!(m->owner = calloc(m->ntiles, sizeof *m->owner)) ||
+                         !(m->tcost = calloc(m->ntiles, sizeof *m->tcost)) ||
+                         !(m->tflags = calloc((size_t)m->ntiles + 3, sizeof *m->tflags))))
         return -1;
     return 0;
 }

@@ -196,6 +196,9 @@ typedef struct dmodel {
      * resolves the tiles it owns this step */
     int ranks, rank;
     int *owner;              /* per tile: its rank this step */
+    double *tflags;          /* per tile and a round's end: XF_* from its rank */
+    double *tcost;           /* per tile: its work in the last step (disks,
+                              * contacts and pair checks; 0: not known) */
     size_t *at;              /* ranks + 1: rank q owns the store places
                               * [at[q], at[q + 1]) (its tiles') */
     dxedge *xe;              /* the edges across this rank's side, in order */
@@ -292,8 +295,13 @@ int discrete_ranks_contacts(psim_sim *e, dmodel *m, uint64_t *found, uint64_t *t
  * edges across ranks received, then the edges that touch this rank's
  * tiles run; returns how many of them this rank counts. */
 uint64_t discrete_ranks_level(psim_sim *e, dmodel *m, int lv, int first);
-/* After a round's tiles: the flags of the tiles across ranks exchanged. */
-void discrete_ranks_flags(psim_sim *e, dmodel *m);
+/* After a round's tiles: the other ranks' tiles' flags, as the last
+ * round's end left them (whether a tile runs, whether edges changed it). */
+void discrete_ranks_flags(dmodel *m, int first);
+/* At a round's end (after round_total): the round's resolutions, a
+ * divergence and a stop summed over the ranks, with each tile's flags for
+ * the next round from its rank; returns the resolutions, *diverged set. */
+uint64_t discrete_ranks_round_end(psim_sim *e, dmodel *m, uint64_t res, int *diverged);
 /* After the resolution: every rank's velocities to every rank. */
 void discrete_ranks_sync(psim_sim *e, dmodel *m);
 /* The work counted on every rank, summed (balance.c). */

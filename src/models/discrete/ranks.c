@@ -43,6 +43,13 @@ void discrete_ranks_free(dmodel *m)
     m->sbuf = m->rbuf = NULL;
 }
 
+/* A tile's work: what it cost in the last step where that is known (the
+ * same tiles), else its disks. */
+static double tile_cost(const dmodel *m, uint32_t t)
+{
+    return m->tcost[t] > 0 ? m->tcost[t] : (double)(m->tiles[t].p1 - m->tiles[t].p0);
+}
+
 void discrete_ranks_own(const psim_sim *e, dmodel *m)
 {
     if (m->ranks < 2)
@@ -52,12 +59,16 @@ void discrete_ranks_own(const psim_sim *e, dmodel *m)
     for (int q = 0; q < R; q++)
         m->at[q] = SIZE_MAX;
     m->at[R] = (size_t)n;
+    double total = 0, before = 0;
+    for (uint32_t t = 0; t < m->ntiles; t++)
+        total += tile_cost(m, t);
     for (uint32_t t = 0; t < m->ntiles; t++) {
         const dtile *d = &m->tiles[t];
-        /* the rank whose share of the disks holds the tile's middle */
-        uint64_t mid = ((uint64_t)d->p0 + d->p1) / 2;
-        int q = n ? (int)(mid * (uint64_t)R / n) : 0;
-        q = q < R ? q : R - 1;
+        /* the rank whose share of the work holds the tile's middle */
+        const double c = tile_cost(m, t);
+        int q = total > 0 ? (int)((before + 0.5 * c) * R / total) : 0;
+        before += c;
+        q = q < 0 ? 0 : q < R ? q : R - 1;
         m->owner[t] = q;
         if (d->p0 < m->at[q])
             m->at[q] = d->p0;
@@ -234,41 +245,39 @@ int discrete_ranks_contacts(psim_sim *e, dmodel *m, uint64_t *found, uint64_t *t
     return 0;
 }
 
-/* A tile's flags that edges across ranks read. */
-enum { XF_SCHEDULED = 1, XF_BORDER = 2, XF_CROSS_PREV = 4 };
+/* A tile's flags that edges across ranks read: whether it runs in the
+ * next round, whether edges changed it in this one (from the round's end)
+ * and whether its worklist changed a disk on its border (with the
+ * velocities of each edge's level). */
+enum { XF_SCHEDULED = 1, XF_CROSS_PREV = 2 };
 
-void discrete_ranks_flags(psim_sim *e, dmodel *m)
+uint64_t discrete_ranks_round_end(psim_sim *e, dmodel *m, uint64_t res, int *diverged)
 {
-    const int R = m->ranks;
-    size_t *to = m->sbytes, *from = m->sbytes + R;
-    clear_bytes(m);
-    for (size_t r = 0; r < m->nxe; r++)
-        to[m->xe[r].q]++, from[m->xe[r].q]++;
-    uint8_t *sb = room(&m->sbuf, &m->sbuf_cap, m->nxe), *rb = room(&m->rbuf, &m->rbuf_cap, m->nxe);
-    if (!sb || !rb)
-        psim_dist_out_of_memory("the flags across ranks");
-    size_t at = 0;
-    for (int q = 0; q < R; q++)
-        for (size_t r = 0; r < m->nxe; r++)
-            if (m->xe[r].q == q) {
-                const dedge *ed = &m->edges[m->xe[r].k];
-                const dtile *t = &m->tiles[m->xe[r].mine_a ? ed->a : ed->b];
-                sb[at++] = (uint8_t)((t->scheduled ? XF_SCHEDULED : 0) |
-                                     (t->changed_border ? XF_BORDER : 0) |
-                                     (t->changed_cross_prev ? XF_CROSS_PREV : 0));
-            }
-    psim_engine_sendrecv(e, sb, to, rb, from);
-    at = 0;
-    for (int q = 0; q < R; q++)
-        for (size_t r = 0; r < m->nxe; r++)
-            if (m->xe[r].q == q) {
-                const dedge *ed = &m->edges[m->xe[r].k];
-                dtile *t = &m->tiles[m->xe[r].mine_a ? ed->b : ed->a];
-                uint8_t f = rb[at++];
-                t->scheduled = (f & XF_SCHEDULED) != 0;
-                t->changed_border = (f & XF_BORDER) != 0;
-                t->changed_cross_prev = (f & XF_CROSS_PREV) != 0;
-            }
+    double *v = m->tflags;
+    v[0] = (double)res, v[1] = *diverged, v[2] = psim_stop_requested();
+    for (uint32_t t = 0; t < m->ntiles; t++) {
+        const dtile *d = &m->tiles[t];
+        v[3 + t] = discrete_mine(m, t) ? (d->p0 != d->p1 && (d->nact || d->qcount) ? XF_SCHEDULED : 0) +
+                                             (d->changed_cross_prev ? XF_CROSS_PREV : 0)
+                                       : 0;
+    }
+    psim_engine_reduce(e, v, (int)m->ntiles + 3, NULL, 0);
+    if (v[2] > 0)
+        psim_request_stop();
+    *diverged = v[1] > 0;
+    return (uint64_t)v[0];
+}
+
+void discrete_ranks_flags(dmodel *m, int first)
+{
+    for (uint32_t t = 0; t < m->ntiles; t++) {
+        dtile *d = &m->tiles[t];
+        if (discrete_mine(m, t))
+            continue;
+        const int f = (int)m->tflags[3 + t];
+        d->scheduled = first ? d->p0 != d->p1 : (f & XF_SCHEDULED) != 0;
+        d->changed_cross_prev = !first && (f & XF_CROSS_PREV) != 0;
+    }
 }
 
 /* Forget what an edge did to another rank's tile t: its owner keeps it. */
@@ -285,15 +294,19 @@ uint64_t discrete_ranks_level(psim_sim *e, dmodel *m, int lv, int first)
     size_t *to = m->sbytes, *from = m->sbytes + R;
     clear_bytes(m);
     size_t sall = 0, rall = 0;
+    const size_t V = 2 * sizeof(double);
     for (size_t r = 0; r < m->nxe; r++) {
         const dxedge *x = &m->xe[r];
         if (x->lv != lv || !discrete_edge_runs(m, x->k, first))
             continue;
-        to[x->q] += 2 * sizeof(double) * x->n0, sall += 2 * sizeof(double) * x->n0;
-        from[x->q] += 2 * sizeof(double) * x->n1, rall += 2 * sizeof(double) * x->n1;
+        to[x->q] += 1 + V * x->n0, sall += 1 + V * x->n0;
+        from[x->q] += 1 + V * x->n1, rall += 1 + V * x->n1;
     }
-    if (sall || rall) {   /* the disks of this level's edges across ranks */
-        double *sb = room(&m->sbuf, &m->sbuf_cap, sall), *rb = room(&m->rbuf, &m->rbuf_cap, rall);
+    if (sall || rall) {
+        /* this level's edges across ranks: for each, this rank's tile's
+         * flag (its worklist changed a disk on the border) and its disks'
+         * velocities; the other rank's, likewise */
+        char *sb = room(&m->sbuf, &m->sbuf_cap, sall), *rb = room(&m->rbuf, &m->rbuf_cap, rall);
         if (!sb || !rb)
             psim_dist_out_of_memory("the velocities across ranks");
         const double *vx = e->st.vx, *vy = e->st.vy;
@@ -303,9 +316,12 @@ uint64_t discrete_ranks_level(psim_sim *e, dmodel *m, int lv, int first)
                 const dxedge *x = &m->xe[r];
                 if (x->q != q || x->lv != lv || !discrete_edge_runs(m, x->k, first))
                     continue;
-                for (uint32_t h = 0; h < x->n0; h++) {
+                const dedge *ed = &m->edges[x->k];
+                sb[so++] = (char)m->tiles[x->mine_a ? ed->a : ed->b].changed_border;
+                for (uint32_t h = 0; h < x->n0; h++, so += V) {
                     uint32_t i = m->xdisk[x->m0 + h];
-                    sb[so++] = vx[i], sb[so++] = vy[i];
+                    memcpy(sb + so, &vx[i], sizeof(double));
+                    memcpy(sb + so + sizeof(double), &vy[i], sizeof(double));
                 }
             }
         psim_engine_sendrecv(e, sb, to, rb, from);
@@ -315,9 +331,12 @@ uint64_t discrete_ranks_level(psim_sim *e, dmodel *m, int lv, int first)
                 const dxedge *x = &m->xe[r];
                 if (x->q != q || x->lv != lv || !discrete_edge_runs(m, x->k, first))
                     continue;
-                for (uint32_t h = 0; h < x->n1; h++) {
+                const dedge *ed = &m->edges[x->k];
+                m->tiles[x->mine_a ? ed->b : ed->a].changed_border = (uint8_t)(rb[ro++] != 0);
+                for (uint32_t h = 0; h < x->n1; h++, ro += V) {
                     uint32_t i = m->xdisk[x->m1 + h];
-                    e->st.vx[i] = rb[ro++], e->st.vy[i] = rb[ro++];
+                    memcpy(&e->st.vx[i], rb + ro, sizeof(double));
+                    memcpy(&e->st.vy[i], rb + ro + sizeof(double), sizeof(double));
                 }
             }
     }
@@ -346,6 +365,17 @@ void discrete_ranks_sync(psim_sim *e, dmodel *m)
 {
     double *const v[2] = {e->st.vx, e->st.vy};
     psim_engine_allgather(e, v, 2, m->at);
+    /* each tile's work this step, from its rank, to split the next */
+    for (uint32_t t = 0; t < m->ntiles; t++) {
+        const dtile *d = &m->tiles[t];
+        size_t found = d->in.n;
+        for (int k = 0; k < DIRS; k++)
+            found += d->cross[k].n;
+        m->tcost[t] = discrete_mine(m, t)
+                          ? 2.0 * (d->p1 - d->p0) + (double)found + (double)d->checks
+                          : 0;
+    }
+    psim_engine_reduce(e, m->tcost, (int)m->ntiles, NULL, 0);
 }
 
 /* A per-disk array of counts summed over the ranks. */

@@ -606,7 +606,7 @@ static uint64_t ranks_round(psim_sim *e, dmodel *m, int first)
 #pragma omp taskwait
     for (size_t k = 0; k < m->nedges; k++)
         m->edge_res[k] = 0;
-    discrete_ranks_flags(e, m);
+    discrete_ranks_flags(m, first);
     for (int lv = 0; lv < EDGE_LEVELS; lv++)
         tasks += discrete_ranks_level(e, m, lv, first);
     return tasks;
@@ -700,13 +700,8 @@ __attribute__((noinline)) int discrete_resolve(psim_sim *e, dmodel *m)
             rounds++;
             uint64_t res = round_total(m);
             int diverged = any_diverged(m);
-            if (m->ranks > 1) {   /* every rank's, and a stop asked on any */
-                double v[3] = {(double)res, diverged, psim_stop_requested()};
-                psim_engine_reduce(e, v, 3, NULL, 0);
-                res = (uint64_t)v[0], diverged = v[1] > 0;
-                if (v[2] > 0)
-                    psim_request_stop();
-            }
+            if (m->ranks > 1)   /* every rank's, and a stop asked on any */
+                res = discrete_ranks_round_end(e, m, res, &diverged);
             total += res;
             if (diverged || total > budget) {
                 settled = 0;
