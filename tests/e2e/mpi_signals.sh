@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# SIGTERM and SIGINT in the middle of a force run over MPI ranks, sent to
+# SIGTERM and SIGINT in the middle of a force run (and a discrete one)
+# over MPI ranks, sent to
 # mpirun or to one rank alone: the run ends with a non-zero status, no
 # output file and no temporary file, no psim process left, and at most
 # one line from psim on stderr.  Checkpoints over ranks leave a whole
@@ -95,6 +96,13 @@ for r in 2 3; do
     interrupt "$r" TERM $((r - 1))
 done
 interrupt 3 TERM 0
+
+# The discrete model, whose ranks agree on a stop at each round's end of
+# a step's resolution: a signal to one rank alone in the middle of one.
+gen "$tmp/pile.in" -n 40000 -r 3 --density 0.9 --vmin 2 --vmax 5 -s 3000 --seed 5
+args=("$tmp/pile.in" --threads 1 -q -o "$out/o.txt" --trace "$out/t.txt" --final "$out/f.txt")
+interrupt 2 INT 1
+interrupt 3 TERM mpirun
 
 # Checkpoints over ranks (--restart-every): rank 0 alone puts the file in
 # place, so that a run killed at any time leaves a whole one: never empty

@@ -200,7 +200,8 @@ int discrete_ranks_contacts(psim_sim *e, dmodel *m, uint64_t *found, uint64_t *t
         for (size_t r = 0; r < m->nxe; r++)
             if (m->xe[r].q == q) {
                 const dlist *l = side_list(m, &m->xe[r], 1);
-                memcpy(sb + so, l->c, l->n * sizeof(dcontact));
+                if (l->n)
+                    memcpy(sb + so, l->c, l->n * sizeof(dcontact));
                 so += l->n * sizeof(dcontact);
             }
     psim_engine_sendrecv(e, sb, to, rb, from);
