@@ -980,6 +980,32 @@ void psim_engine_allgather(psim_sim *e, double *const *a, int k, const size_t *a
     e->stats.phase_s[d->comm_phase] += psim_now() - t0;
 }
 
+void psim_engine_share(psim_sim *e, const void *mine, size_t bytes, void **all, size_t *each)
+{
+    psim_dist *d = e->dist;
+    const int n = R();
+    double t0 = psim_now();
+    if (bytes > INT_MAX) {
+        fprintf(stderr, "psim: rank %d: more than 2 GiB to share at once\n", me());
+        psim_dist_abort(1);
+    }
+    int b = (int)bytes;
+    MPI_Allgather(&b, 1, MPI_INT, d->rcnt, 1, MPI_INT, MPI_COMM_WORLD);
+    size_t r = 0;
+    for (int q = 0; q < n; q++) {
+        if (r > INT_MAX - (size_t)d->rcnt[q]) {
+            fprintf(stderr, "psim: rank %d: more than 2 GiB to share at once\n", me());
+            psim_dist_abort(1);
+        }
+        d->rdsp[q] = (int)r, each[q] = (size_t)d->rcnt[q], r += (size_t)d->rcnt[q];
+    }
+    *all = grow(NULL, r, "an exchange");
+    MPI_Allgatherv(mine, b, MPI_BYTE, *all, d->rcnt, d->rdsp, MPI_BYTE, MPI_COMM_WORLD);
+    d->rs.bytes_sent += (uint64_t)(n - 1) * bytes;
+    d->rs.messages_sent += (uint64_t)(n - 1);
+    e->stats.phase_s[d->comm_phase] += psim_now() - t0;
+}
+
 #else /* without MPI no run has ranks: never called */
 
 int psim_dist_attach(psim_sim *e, psim_scene *sc, int take, psim_error *err)
@@ -1017,6 +1043,15 @@ void psim_engine_sendrecv(psim_sim *e, const void *send, const size_t *sbytes, v
 void psim_engine_allgather(psim_sim *e, double *const *a, int k, const size_t *at)
 {
     (void)e, (void)a, (void)k, (void)at;
+}
+void psim_engine_share(psim_sim *e, const void *mine, size_t bytes, void **all, size_t *each)
+{
+    (void)e;
+    if (!(*all = malloc(bytes ? bytes : 1)))
+        psim_dist_out_of_memory("an exchange");
+    if (bytes)
+        memcpy(*all, mine, bytes);
+    each[0] = bytes;
 }
 void psim_engine_alltoall(psim_sim *e, const void *send, const size_t *sbytes, void **recv,
                           size_t *rbytes)

@@ -262,6 +262,12 @@ void psim_engine_sendrecv(struct psim_sim *e, const void *send, const size_t *sb
  * [at[q], at[q + 1]) of each of the k arrays a[0..k) to every rank, in
  * place.  Timed and counted as psim_engine_alltoall. */
 void psim_engine_allgather(struct psim_sim *e, double *const *a, int k, const size_t *at);
+/* Over ranks, collective, for a model that shares: each rank's `bytes`
+ * bytes of mine to every rank; *all (allocated, the caller frees it)
+ * holds every rank's in rank order, each[q] bytes from rank q.  Timed
+ * and counted as psim_engine_alltoall. */
+void psim_engine_share(struct psim_sim *e, const void *mine, size_t bytes, void **all,
+                       size_t *each);
 /* Index of the counter called name in the stats (-1 if none). */
 int psim_engine_counter(const struct psim_sim *e, const char *name);
 

@@ -208,6 +208,9 @@ typedef struct dmodel {
     uint32_t *xstamp;        /* per disk: the edge that last listed it */
     uint32_t xnow;           /* (the latest stamp) */
     size_t xn;               /* disks xstamp holds */
+    double *v0;              /* the rank's disks' velocities at the step's
+                              * start (x, y), to send only those that changed */
+    size_t v0_cap;
     void *sbuf, *rbuf;       /* messages, kept (grow only) */
     size_t sbuf_cap, rbuf_cap;
     size_t *sbytes;          /* 2 x ranks: bytes to and from each rank */
@@ -302,7 +305,10 @@ void discrete_ranks_flags(dmodel *m, int first);
  * divergence and a stop summed over the ranks, with each tile's flags for
  * the next round from its rank; returns the resolutions, *diverged set. */
 uint64_t discrete_ranks_round_end(psim_sim *e, dmodel *m, uint64_t res, int *diverged);
-/* After the resolution: every rank's velocities to every rank. */
+/* Before the resolution: the rank's disks' velocities kept.  After it:
+ * every rank's disks that changed (and its disks in edges across ranks,
+ * which other ranks ran too) to every rank. */
+void discrete_ranks_keep(psim_sim *e, dmodel *m);
 void discrete_ranks_sync(psim_sim *e, dmodel *m);
 /* The work counted on every rank, summed (balance.c). */
 void discrete_ranks_work(psim_sim *e, dmodel *m);

@@ -37,9 +37,10 @@ int discrete_ranks_init(const psim_sim *e, dmodel *m)
 
 void discrete_ranks_free(dmodel *m)
 {
-    free(m->at), free(m->sbytes), free(m->xstamp), free(m->xe), free(m->xdisk);
+    free(m->at), free(m->sbytes), free(m->xstamp), free(m->xe), free(m->xdisk), free(m->v0);
     free(m->sbuf), free(m->rbuf);
     m->at = NULL, m->sbytes = NULL, m->xstamp = NULL, m->xe = NULL, m->xdisk = NULL;
+    m->v0 = NULL, m->v0_cap = 0;
     m->sbuf = m->rbuf = NULL;
 }
 
@@ -362,10 +363,57 @@ uint64_t discrete_ranks_level(psim_sim *e, dmodel *m, int lv, int first)
     return tasks;
 }
 
+void discrete_ranks_keep(psim_sim *e, dmodel *m)
+{
+    const size_t lo = m->at[m->rank], n = m->at[m->rank + 1] - lo;
+    if (psim_reserve((void **)&m->v0, &m->v0_cap, 2 * n + 1, sizeof *m->v0))
+        psim_dist_out_of_memory("the velocities");
+    memcpy(m->v0, e->st.vx + lo, n * sizeof *m->v0);
+    memcpy(m->v0 + n, e->st.vy + lo, n * sizeof *m->v0);
+}
+
+/* A disk's velocity as it travels: its store place, vx, vy. */
+#define VREC (sizeof(uint32_t) + 2 * sizeof(double))
+
 void discrete_ranks_sync(psim_sim *e, dmodel *m)
 {
-    double *const v[2] = {e->st.vx, e->st.vy};
-    psim_engine_allgather(e, v, 2, m->at);
+    const size_t lo = m->at[m->rank], n = m->at[m->rank + 1] - lo;
+    double *vx = e->st.vx, *vy = e->st.vy;
+    /* the rank's disks that other ranks' edges moved too: always sent */
+    if (++m->xnow == 0) {
+        memset(m->xstamp, 0, m->xn * sizeof *m->xstamp);
+        m->xnow = 1;
+    }
+    for (size_t r = 0; r < m->nxe; r++)
+        for (uint32_t h = 0; h < m->xe[r].n0; h++)
+            m->xstamp[m->xdisk[m->xe[r].m0 + h]] = m->xnow;
+    char *sb = room(&m->sbuf, &m->sbuf_cap, n * VREC);
+    if (!sb)
+        psim_dist_out_of_memory("the velocities");
+    size_t so = 0;
+    for (size_t k = lo; k < lo + n; k++) {
+        if (m->xstamp[k] != m->xnow && !memcmp(&vx[k], &m->v0[k - lo], sizeof *vx) &&
+            !memcmp(&vy[k], &m->v0[n + k - lo], sizeof *vy))
+            continue;
+        uint32_t i = (uint32_t)k;
+        memcpy(sb + so, &i, sizeof i);
+        memcpy(sb + so + sizeof i, &vx[k], sizeof *vx);
+        memcpy(sb + so + sizeof i + sizeof *vx, &vy[k], sizeof *vy);
+        so += VREC;
+    }
+    char *all;
+    size_t *each = m->sbytes, at = 0;
+    psim_engine_share(e, sb, so, (void **)&all, each);
+    for (int q = 0; q < m->ranks; q++) {
+        for (size_t o = at; q != m->rank && o < at + each[q]; o += VREC) {
+            uint32_t i;
+            memcpy(&i, all + o, sizeof i);
+            memcpy(&vx[i], all + o + sizeof i, sizeof *vx);
+            memcpy(&vy[i], all + o + sizeof i + sizeof *vx, sizeof *vy);
+        }
+        at += each[q];
+    }
+    free(all);
     /* each tile's work this step, from its rank, to split the next */
     for (uint32_t t = 0; t < m->ntiles; t++) {
         const dtile *d = &m->tiles[t];

@@ -686,6 +686,8 @@ __attribute__((noinline)) int discrete_resolve(psim_sim *e, dmodel *m)
         t->diverged = 0;
     }
     mark_border(m, 1);
+    if (m->ranks > 1)
+        discrete_ranks_keep(e, m);
     m->counting = discrete_balance_counts(e, m) ? m->work : NULL;
     /* rounds of few resolutions each poll every PSIM_POLL_WORK of them
      * (their worklists and edges count them) */
