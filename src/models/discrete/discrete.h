@@ -199,8 +199,7 @@ typedef struct dmodel {
     double *tflags;          /* per tile and a round's end: XF_* from its rank */
     double *tcost;           /* per tile: its work in the last step (disks,
                               * contacts and pair checks; 0: not known) */
-    size_t *at;              /* ranks + 1: rank q owns the store places
-                              * [at[q], at[q + 1]) (its tiles') */
+    size_t nown;             /* the rank's disks this step (its tiles') */
     dxedge *xe;              /* the edges across this rank's side, in order */
     size_t nxe, xe_cap;
     uint32_t *xdisk;         /* their disks (dxedge) */
@@ -281,7 +280,7 @@ int discrete_check(psim_sim *e, void *m, const psim_snapshot *before,
                    const psim_snapshot *after, psim_error *err);
 
 /* ranks.c: the model over MPI ranks.  Each rank holds every disk; the
- * tiles go to the ranks in runs of their order, split by disks; a rank
+ * tiles go to the ranks in runs of rows, split by their work; a rank
  * searches and resolves its own tiles, and runs every edge that touches
  * one of them, an edge across two ranks on both, each with the other's
  * disks' velocities received just before the edge's level. */

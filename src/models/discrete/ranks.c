@@ -2,8 +2,8 @@
  *
  * Every rank holds every disk and drifts, sorts and tiles them as one
  * process does, so the tiles, their contacts and their order are the same
- * on every rank.  The tiles go to the ranks in runs of the tiles' order
- * (their disks are a run of the store), split by disks.  A rank searches
+ * on every rank.  The tiles go to the ranks in runs of rows, split by
+ * their work in the last step.  A rank searches
  * its own tiles and resolves them round by round as one process does; a
  * round's edges run level by level (EDGE_LEVELS): an edge between two
  * tiles of one rank on that rank, an edge across two ranks on both, each
@@ -15,7 +15,7 @@
  * activations, the counts) it keeps, the other tile's it drops.  So every
  * tile sees the same sequence of updates as in one process, and the
  * bytes are the same for any number of ranks.  After the step every rank
- * sends its disks' velocities to every rank. */
+ * sends the velocities of its disks that changed to every rank. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -28,18 +28,17 @@ int discrete_ranks_init(const psim_sim *e, dmodel *m)
     m->rank = psim_engine_rank(e);
     if (m->ranks < 2)
         return 0;
-    m->at = calloc((size_t)m->ranks + 1, sizeof *m->at);
     m->sbytes = calloc(2 * (size_t)m->ranks, sizeof *m->sbytes);
     m->xn = (size_t)e->n + 1;
     m->xstamp = calloc(m->xn, sizeof *m->xstamp);
-    return m->at && m->sbytes && m->xstamp ? 0 : -1;
+    return m->sbytes && m->xstamp ? 0 : -1;
 }
 
 void discrete_ranks_free(dmodel *m)
 {
-    free(m->at), free(m->sbytes), free(m->xstamp), free(m->xe), free(m->xdisk), free(m->v0);
+    free(m->sbytes), free(m->xstamp), free(m->xe), free(m->xdisk), free(m->v0);
     free(m->sbuf), free(m->rbuf);
-    m->at = NULL, m->sbytes = NULL, m->xstamp = NULL, m->xe = NULL, m->xdisk = NULL;
+    m->sbytes = NULL, m->xstamp = NULL, m->xe = NULL, m->xdisk = NULL;
     m->v0 = NULL, m->v0_cap = 0;
     m->sbuf = m->rbuf = NULL;
 }
@@ -51,32 +50,29 @@ static double tile_cost(const dmodel *m, uint32_t t)
     return m->tcost[t] > 0 ? m->tcost[t] : (double)(m->tiles[t].p1 - m->tiles[t].p0);
 }
 
+/* The tiles go to the ranks in runs of rows (row by row, each row from
+ * left to right), split by their work: the border between two ranks is
+ * a row's side, with one step in it at most, so few of the eight levels
+ * of edges cross it. */
 void discrete_ranks_own(const psim_sim *e, dmodel *m)
 {
     if (m->ranks < 2)
         return;
-    const int R = m->ranks;
-    const uint64_t n = (uint64_t)e->n;
-    for (int q = 0; q < R; q++)
-        m->at[q] = SIZE_MAX;
-    m->at[R] = (size_t)n;
+    const int R = m->ranks, TG = e->grid.TG;
     double total = 0, before = 0;
     for (uint32_t t = 0; t < m->ntiles; t++)
         total += tile_cost(m, t);
-    for (uint32_t t = 0; t < m->ntiles; t++) {
-        const dtile *d = &m->tiles[t];
+    for (int k = 0; k < TG * TG; k++) {
+        const uint32_t t = e->grid.tile_of_xy[k];
         /* the rank whose share of the work holds the tile's middle */
         const double c = tile_cost(m, t);
         int q = total > 0 ? (int)((before + 0.5 * c) * R / total) : 0;
         before += c;
-        q = q < 0 ? 0 : q < R ? q : R - 1;
-        m->owner[t] = q;
-        if (d->p0 < m->at[q])
-            m->at[q] = d->p0;
+        m->owner[t] = q < 0 ? 0 : q < R ? q : R - 1;
     }
-    for (int q = R - 1; q >= 0; q--)   /* a rank without tiles: an empty run */
-        if (m->at[q] > m->at[q + 1])
-            m->at[q] = m->at[q + 1];
+    m->nown = 0;   /* the rank's disks */
+    for (uint32_t t = 0; t < m->ntiles; t++)
+        m->nown += discrete_mine(m, t) ? m->tiles[t].p1 - m->tiles[t].p0 : 0;
 }
 
 /* Room for n bytes in a kept buffer. */
@@ -365,11 +361,18 @@ uint64_t discrete_ranks_level(psim_sim *e, dmodel *m, int lv, int first)
 
 void discrete_ranks_keep(psim_sim *e, dmodel *m)
 {
-    const size_t lo = m->at[m->rank], n = m->at[m->rank + 1] - lo;
+    const size_t n = m->nown;
     if (psim_reserve((void **)&m->v0, &m->v0_cap, 2 * n + 1, sizeof *m->v0))
         psim_dist_out_of_memory("the velocities");
-    memcpy(m->v0, e->st.vx + lo, n * sizeof *m->v0);
-    memcpy(m->v0 + n, e->st.vy + lo, n * sizeof *m->v0);
+    size_t at = 0;   /* the rank's tiles in their order */
+    for (uint32_t t = 0; t < m->ntiles; t++) {
+        const dtile *d = &m->tiles[t];
+        if (!discrete_mine(m, t) || d->p0 == d->p1)
+            continue;
+        memcpy(m->v0 + at, e->st.vx + d->p0, (d->p1 - d->p0) * sizeof *m->v0);
+        memcpy(m->v0 + n + at, e->st.vy + d->p0, (d->p1 - d->p0) * sizeof *m->v0);
+        at += d->p1 - d->p0;
+    }
 }
 
 /* A disk's velocity as it travels: its store place, vx, vy. */
@@ -377,7 +380,7 @@ void discrete_ranks_keep(psim_sim *e, dmodel *m)
 
 void discrete_ranks_sync(psim_sim *e, dmodel *m)
 {
-    const size_t lo = m->at[m->rank], n = m->at[m->rank + 1] - lo;
+    const size_t n = m->nown;
     double *vx = e->st.vx, *vy = e->st.vy;
     /* the rank's disks that other ranks' edges moved too: always sent */
     if (++m->xnow == 0) {
@@ -390,16 +393,20 @@ void discrete_ranks_sync(psim_sim *e, dmodel *m)
     char *sb = room(&m->sbuf, &m->sbuf_cap, n * VREC);
     if (!sb)
         psim_dist_out_of_memory("the velocities");
-    size_t so = 0;
-    for (size_t k = lo; k < lo + n; k++) {
-        if (m->xstamp[k] != m->xnow && !memcmp(&vx[k], &m->v0[k - lo], sizeof *vx) &&
-            !memcmp(&vy[k], &m->v0[n + k - lo], sizeof *vy))
+    size_t so = 0, h = 0;
+    for (uint32_t t = 0; t < m->ntiles; t++) {
+        const dtile *d = &m->tiles[t];
+        if (!discrete_mine(m, t))
             continue;
-        uint32_t i = (uint32_t)k;
-        memcpy(sb + so, &i, sizeof i);
-        memcpy(sb + so + sizeof i, &vx[k], sizeof *vx);
-        memcpy(sb + so + sizeof i + sizeof *vx, &vy[k], sizeof *vy);
-        so += VREC;
+        for (uint32_t k = d->p0; k < d->p1; k++, h++) {
+            if (m->xstamp[k] != m->xnow && !memcmp(&vx[k], &m->v0[h], sizeof *vx) &&
+                !memcmp(&vy[k], &m->v0[n + h], sizeof *vy))
+                continue;
+            memcpy(sb + so, &k, sizeof k);
+            memcpy(sb + so + sizeof k, &vx[k], sizeof *vx);
+            memcpy(sb + so + sizeof k + sizeof *vx, &vy[k], sizeof *vy);
+            so += VREC;
+        }
     }
     char *all;
     size_t *each = m->sbytes, at = 0;
