@@ -391,9 +391,16 @@ __attribute__((noinline)) void discrete_find_contacts(psim_sim *e, dmodel *m)
         tests += m->chunks[k].tests;
     }
     e->stats.counter[DC_SEARCH_TESTS] += tests;
-    /* over ranks: every rank's, and the contacts across ranks to both */
-    if (m->ranks > 1 && discrete_ranks_contacts(e, m, &found, &tests, &m->d2min))
-        m->tiles[0].oom = 1;
+    /* (over ranks, this rank's: every rank's once the first round's tiles
+     * are done, resolve.c) */
     m->step_contacts = found;
     m->step_tests = tests;
+    for (uint32_t t = 0; m->ranks > 1 && t < m->ntiles; t++) {
+        dtile *d = &m->tiles[t];
+        if (discrete_mine(m, t))
+            continue;
+        d->in.n = 0;   /* another rank's: only what it sends is here */
+        for (int k = 0; k < DIRS; k++)
+            d->cross[k].n = 0;
+    }
 }

@@ -228,6 +228,12 @@ static int sort_and_fit(psim_sim *e, dmodel *m, psim_error *err)
     return -1;
 }
 
+static int contacts_oom(const psim_sim *e, psim_error *err)
+{
+    psim_error_set(err, "out of memory for contacts at step %ld", e->step + 1);
+    return -1;
+}
+
 static int interact(psim_sim *e, void *p, psim_error *err)
 {
     dmodel *m = p;
@@ -241,15 +247,16 @@ static int interact(psim_sim *e, void *p, psim_error *err)
     if (sort_and_fit(e, m, err))
         return -1;
     PSIM_TIMED(e, DPHASE_CONTACTS, discrete_find_contacts(e, m));
-    discrete_flight_searched(e, m);
-    for (uint32_t t = 0; t < m->ntiles; t++)
-        if (m->tiles[t].oom) {
-            psim_error_set(err, "out of memory for contacts at step %ld",
-                           e->step + 1);
-            return -1;
-        }
+    /* (over ranks, the ranks agree on it in the first round) */
+    for (uint32_t t = 0; m->ranks < 2 && t < m->ntiles; t++)
+        if (m->tiles[t].oom)
+            return contacts_oom(e, err);
     int rc;
     PSIM_TIMED(e, DPHASE_RESOLVE, rc = discrete_resolve(e, m));
+    if (rc == -2)
+        return contacts_oom(e, err);
+    /* (the search's figures, over ranks every rank's once resolved) */
+    discrete_flight_searched(e, m);
     if (rc && psim_stop_requested())
         return psim_engine_stopped(e, err);
     if (rc) {

@@ -274,7 +274,8 @@ void discrete_walls_only(psim_sim *e, dmodel *m);
  * changed no velocity. */
 void discrete_step_resolved(psim_sim *e, dmodel *m, uint64_t total);
 void discrete_unsettled(psim_sim *e, dmodel *m, dgroup *g);
-/* Returns 0, or -1 when collisions did not settle (m->budget). */
+/* Returns 0, or -1 when collisions did not settle (m->budget), or -2
+ * (over ranks) when a rank had no memory for its contacts. */
 int discrete_resolve(psim_sim *e, dmodel *m);
 int discrete_check(psim_sim *e, void *m, const psim_snapshot *before,
                    const psim_snapshot *after, psim_error *err);
@@ -288,11 +289,12 @@ int discrete_ranks_init(const psim_sim *e, dmodel *m);
 void discrete_ranks_free(dmodel *m);
 /* After the sort: each tile's rank (tiles' p0, p1 set). */
 void discrete_ranks_own(const psim_sim *e, dmodel *m);
-/* After the search of the rank's own tiles: the counts summed and the
- * nearest pair over the ranks, and the contacts of the edges across two
- * ranks sent to both.  0, or -1 when out of memory (on any rank). */
-int discrete_ranks_contacts(psim_sim *e, dmodel *m, uint64_t *found, uint64_t *tests,
-                            double *d2min);
+/* After the search of the rank's own tiles and the first round's tiles
+ * (which need nothing from other ranks): the search's counts summed and
+ * its nearest pair over the ranks (m->step_contacts, step_tests, d2min),
+ * and the contacts of the edges across two ranks sent to both.  0, or -1
+ * when out of memory (on any rank: every rank says so). */
+int discrete_ranks_contacts(psim_sim *e, dmodel *m);
 /* One round's edges at level lv: the other ranks' disks of this level's
  * edges across ranks received, then the edges that touch this rank's
  * tiles run; returns how many of them this rank counts. */

@@ -137,25 +137,16 @@ static void clear_bytes(dmodel *m)
     memset(m->sbytes, 0, 2 * (size_t)m->ranks * sizeof *m->sbytes);
 }
 
-int discrete_ranks_contacts(psim_sim *e, dmodel *m, uint64_t *found, uint64_t *tests,
-                            double *d2min)
+int discrete_ranks_contacts(psim_sim *e, dmodel *m)
 {
     const int R = m->ranks;
     int oom = 0;
-    for (uint32_t t = 0; t < m->ntiles; t++) {
-        dtile *d = &m->tiles[t];
-        if (discrete_mine(m, t)) {
-            oom |= d->oom;
-            continue;
-        }
-        d->in.n = 0;   /* another rank's: only what it sends is here */
-        for (int k = 0; k < DIRS; k++)
-            d->cross[k].n = 0;
-    }
+    for (uint32_t t = 0; t < m->ntiles; t++)
+        oom |= discrete_mine(m, t) && m->tiles[t].oom;
     oom |= list_cross(m) != 0;
-    double v[3] = {(double)*found, (double)*tests, oom};
-    psim_engine_reduce(e, v, 3, d2min, 1);
-    *found = (uint64_t)v[0], *tests = (uint64_t)v[1];
+    double v[3] = {(double)m->step_contacts, (double)m->step_tests, oom};
+    psim_engine_reduce(e, v, 3, &m->d2min, 1);
+    m->step_contacts = (uint64_t)v[0], m->step_tests = (uint64_t)v[1];
     if (v[2] > 0)
         return -1;
     /* the sizes of the lists, then the lists: each rank sends its side's */

@@ -575,7 +575,7 @@ static uint64_t round_tiles(const psim_sim *e, dmodel *m, int first)
         t->changed_border = 0;
         t->round_res = 0;
         t->scheduled = t->p0 != t->p1 && (first || t->nact || t->qcount) &&
-                       discrete_mine(m, ti);
+                       discrete_mine(m, ti) && !t->oom;
         tiles += t->scheduled;
     }
     if (graph && m->take && m->ntiles > 1) {
@@ -600,10 +600,18 @@ static uint64_t round_tiles(const psim_sim *e, dmodel *m, int first)
 /* One round over ranks: the rank's tiles, then the edges that touch
  * them, level by level, each level after the disks of its edges across
  * ranks came (ranks.c); returns the work items this rank counts. */
-static uint64_t ranks_round(psim_sim *e, dmodel *m, int first)
+static void mark_border(dmodel *m, uint8_t v);
+
+static uint64_t ranks_round(psim_sim *e, dmodel *m, int first, int *failed)
 {
     uint64_t tasks = round_tiles(e, m, first);
 #pragma omp taskwait
+    /* the first round's tiles ran while the other ranks searched: now the
+     * search's figures and the contacts across ranks */
+    if (first && (*failed = discrete_ranks_contacts(e, m) != 0))
+        return tasks;
+    if (first)
+        mark_border(m, 1);   /* (the other ranks' lists too) */
     for (size_t k = 0; k < m->nedges; k++)
         m->edge_res[k] = 0;
     discrete_ranks_flags(m, first);
@@ -677,7 +685,7 @@ __attribute__((noinline)) int discrete_resolve(psim_sim *e, dmodel *m)
 {
     uint64_t rounds = 0, tasks = 0, total = 0;
     const uint64_t budget = m->budget;
-    int settled = 1;
+    int settled = 1, failed = 0;
     for (uint32_t ti = 0; ti < m->ntiles; ti++) {
         dtile *t = &m->tiles[ti];
         t->checks = t->pair_res = t->wall_res = 0;
@@ -697,8 +705,12 @@ __attribute__((noinline)) int discrete_resolve(psim_sim *e, dmodel *m)
 #pragma omp master
     {
         for (int first = 1;; first = 0) {
-            tasks += m->ranks > 1 ? ranks_round(e, m, first) : emit_round(e, m, first);
+            tasks += m->ranks > 1 ? ranks_round(e, m, first, &failed) : emit_round(e, m, first);
 #pragma omp taskwait
+            if (failed) {
+                settled = 0;
+                break;
+            }
             rounds++;
             uint64_t res = round_total(m);
             int diverged = any_diverged(m);
@@ -737,7 +749,7 @@ __attribute__((noinline)) int discrete_resolve(psim_sim *e, dmodel *m)
     e->stats.counter[DC_TASKS] += tasks;
     e->stats.skipped[DS_GRAPH] += e->threads == 1;
     discrete_step_resolved(e, m, total);
-    return settled ? 0 : -1;
+    return failed ? -2 : settled ? 0 : -1;
 }
 
 static void group_add(const psim_sim *e, dmodel *m, dgroup *g, int32_t i)
