@@ -366,7 +366,11 @@ __attribute__((noinline)) void discrete_find_contacts(psim_sim *e, dmodel *m)
                           : search_cells(e, m, ch->tile, ch->c0, ch->c1, &ch->in, ch->cross,
                                          &ch->d2min, &ch->tests, 0);
             ch->oom = (uint8_t)(bad != 0);
-            psim_tstat_add(e->tstats, DPHASE_CONTACTS, psim_now() - t0, 1, b - a);
+            const double dt = psim_now() - t0;
+            psim_tstat_add(e->tstats, DPHASE_CONTACTS, dt, 1, b - a);
+            if (m->ranks > 1)   /* the tile's work, to share the tiles out */
+#pragma omp atomic
+                m->tiles[ch->tile].busy += dt;
         }
 #pragma omp for schedule(dynamic, 1)
         for (uint32_t t = 0; t < m->ntiles; t++) {

@@ -81,6 +81,8 @@ typedef struct __attribute__((aligned(64))) dtile {
     uint8_t changed_cross_cur;  /* edge tasks changed it this round */
     uint8_t oom;
     uint8_t diverged;           /* a task ran past its resolution budget */
+    double busy;                /* seconds its search, worklists and edges
+                                 * took this step (over ranks: shares) */
 } dtile;
 
 /* Disks a tile, about (the grid's own default is 16384): the course's 10k
@@ -197,8 +199,9 @@ typedef struct dmodel {
     int ranks, rank;
     int *owner;              /* per tile: its rank this step */
     double *tflags;          /* per tile and a round's end: XF_* from its rank */
-    double *tcost;           /* per tile: its work in the last step (disks,
-                              * contacts and pair checks; 0: not known) */
+    double *tcost;           /* per tile: its work in the last step (the
+                              * seconds its rank spent on it; all 0: not
+                              * known, its disks stand for it) */
     size_t nown;             /* the rank's disks this step (its tiles') */
     dxedge *xe;              /* the edges across this rank's side, in order */
     size_t nxe, xe_cap;

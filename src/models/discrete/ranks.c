@@ -43,11 +43,12 @@ void discrete_ranks_free(dmodel *m)
     m->sbuf = m->rbuf = NULL;
 }
 
-/* A tile's work: what it cost in the last step where that is known (the
- * same tiles), else its disks. */
-static double tile_cost(const dmodel *m, uint32_t t)
+/* A tile's work: the time it took in the last step where that is known
+ * (the same tiles: known), else its disks.  Where the ranks work changes
+ * no result, so a time may decide it. */
+static double tile_cost(const dmodel *m, uint32_t t, int known)
 {
-    return m->tcost[t] > 0 ? m->tcost[t] : (double)(m->tiles[t].p1 - m->tiles[t].p0);
+    return known ? m->tcost[t] : (double)(m->tiles[t].p1 - m->tiles[t].p0);
 }
 
 /* The tiles go to the ranks in runs of rows (row by row, each row from
@@ -60,12 +61,15 @@ void discrete_ranks_own(const psim_sim *e, dmodel *m)
         return;
     const int R = m->ranks, TG = e->grid.TG;
     double total = 0, before = 0;
+    int known = 0;
     for (uint32_t t = 0; t < m->ntiles; t++)
-        total += tile_cost(m, t);
+        known |= m->tcost[t] > 0;
+    for (uint32_t t = 0; t < m->ntiles; t++)
+        total += tile_cost(m, t, known);
     for (int k = 0; k < TG * TG; k++) {
         const uint32_t t = e->grid.tile_of_xy[k];
         /* the rank whose share of the work holds the tile's middle */
-        const double c = tile_cost(m, t);
+        const double c = tile_cost(m, t, known);
         int q = total > 0 ? (int)((before + 0.5 * c) * R / total) : 0;
         before += c;
         m->owner[t] = q < 0 ? 0 : q < R ? q : R - 1;
@@ -414,13 +418,8 @@ void discrete_ranks_sync(psim_sim *e, dmodel *m)
     free(all);
     /* each tile's work this step, from its rank, to split the next */
     for (uint32_t t = 0; t < m->ntiles; t++) {
-        const dtile *d = &m->tiles[t];
-        size_t found = d->in.n;
-        for (int k = 0; k < DIRS; k++)
-            found += d->cross[k].n;
-        m->tcost[t] = discrete_mine(m, t)
-                          ? 2.0 * (d->p1 - d->p0) + (double)found + (double)d->checks
-                          : 0;
+        m->tcost[t] = discrete_mine(m, t) ? m->tiles[t].busy : 0;
+        m->tiles[t].busy = 0;
     }
     psim_engine_reduce(e, m->tcost, (int)m->ntiles, NULL, 0);
 }

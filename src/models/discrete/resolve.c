@@ -306,7 +306,9 @@ static void edge_task(const psim_sim *e, dmodel *m, size_t k, int first)
 static void timed_tile(const psim_sim *e, dmodel *m, dtile *t, int first)
 {
     wpart wp = {.queue = t->queue};
+    const double t0 = psim_now();
     timed_worklist(e, m, t, first, &wp, t->p1 - t->p0);
+    t->busy += psim_now() - t0;   /* (one task a tile at a time) */
     e->tstats[wp.tid].wall_resolutions += wp.wres;
     tile_done(t, wp.checks, wp.pres, wp.wres, wp.diverged, wp.bchg);
 }
@@ -315,7 +317,9 @@ static void timed_edge(const psim_sim *e, dmodel *m, size_t k, int first)
 {
     double t0 = psim_now();
     edge_task(e, m, k, first);
-    psim_tstat_add(e->tstats, DPHASE_RESOLVE, psim_now() - t0, 1, 0);
+    const double dt = psim_now() - t0;
+    psim_tstat_add(e->tstats, DPHASE_RESOLVE, dt, 1, 0);
+    m->tiles[m->edges[k].a].busy += dt;   /* (its tiles' edges in order) */
 }
 
 void discrete_edge(const psim_sim *e, dmodel *m, size_t k, int first)
