@@ -5,7 +5,7 @@
 #include "../engine/model.h"
 
 const psim_model *psim_model_find(const char *name);
-/* Whether model k runs over MPI ranks (it has a halo). */
+/* Whether model k runs over MPI ranks (it has a halo, or shares the work). */
 int psim_model_distributed(int k);
 /* psim_generate_scene's part `part` of `parts`: the block of ids
  * n*part/parts .. n*(part+1)/parts - 1 (a part of a scene, scene.h),
