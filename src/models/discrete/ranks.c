@@ -370,8 +370,10 @@ void discrete_ranks_keep(psim_sim *e, dmodel *m)
     }
 }
 
-/* A disk's velocity as it travels: its store place, vx, vy. */
+/* A disk's velocity as it travels: its store place, vx, vy; or a tile's
+ * work: TILE_MARK | the tile, its seconds, 0. */
 #define VREC (sizeof(uint32_t) + 2 * sizeof(double))
+#define TILE_MARK 0x80000000u
 
 void discrete_ranks_sync(psim_sim *e, dmodel *m)
 {
@@ -385,7 +387,7 @@ void discrete_ranks_sync(psim_sim *e, dmodel *m)
     for (size_t r = 0; r < m->nxe; r++)
         for (uint32_t h = 0; h < m->xe[r].n0; h++)
             m->xstamp[m->xdisk[m->xe[r].m0 + h]] = m->xnow;
-    char *sb = room(&m->sbuf, &m->sbuf_cap, n * VREC);
+    char *sb = room(&m->sbuf, &m->sbuf_cap, (n + m->ntiles) * VREC);
     if (!sb)
         psim_dist_out_of_memory("the velocities");
     size_t so = 0, h = 0;
@@ -402,26 +404,33 @@ void discrete_ranks_sync(psim_sim *e, dmodel *m)
             memcpy(sb + so + sizeof k + sizeof *vx, &vy[k], sizeof *vy);
             so += VREC;
         }
+        /* and the tile's work this step, to split the next (a place
+         * past any disk's marks it) */
+        const uint32_t tk = TILE_MARK | t;
+        memcpy(sb + so, &tk, sizeof tk);
+        memcpy(sb + so + sizeof tk, &d->busy, sizeof d->busy);
+        memset(sb + so + sizeof tk + sizeof d->busy, 0, sizeof(double));
+        so += VREC;
     }
+    for (uint32_t t = 0; t < m->ntiles; t++)
+        m->tcost[t] = m->tiles[t].busy = 0;
     char *all;
     size_t *each = m->sbytes, at = 0;
     psim_engine_share(e, sb, so, (void **)&all, each);
     for (int q = 0; q < m->ranks; q++) {
-        for (size_t o = at; q != m->rank && o < at + each[q]; o += VREC) {
+        for (size_t o = at; o < at + each[q]; o += VREC) {
             uint32_t i;
             memcpy(&i, all + o, sizeof i);
-            memcpy(&vx[i], all + o + sizeof i, sizeof *vx);
-            memcpy(&vy[i], all + o + sizeof i + sizeof *vx, sizeof *vy);
+            if (i & TILE_MARK)
+                memcpy(&m->tcost[i & ~TILE_MARK], all + o + sizeof i, sizeof(double));
+            else if (q != m->rank) {
+                memcpy(&vx[i], all + o + sizeof i, sizeof *vx);
+                memcpy(&vy[i], all + o + sizeof i + sizeof *vx, sizeof *vy);
+            }
         }
         at += each[q];
     }
     free(all);
-    /* each tile's work this step, from its rank, to split the next */
-    for (uint32_t t = 0; t < m->ntiles; t++) {
-        m->tcost[t] = discrete_mine(m, t) ? m->tiles[t].busy : 0;
-        m->tiles[t].busy = 0;
-    }
-    psim_engine_reduce(e, m->tcost, (int)m->ntiles, NULL, 0);
 }
 
 /* A per-disk array of counts summed over the ranks. */
