@@ -959,27 +959,6 @@ void psim_engine_sendrecv(psim_sim *e, const void *send, const size_t *sbytes, v
     e->stats.phase_s[d->comm_phase] += psim_now() - t0;
 }
 
-void psim_engine_allgather(psim_sim *e, double *const *a, int k, const size_t *at)
-{
-    psim_dist *d = e->dist;
-    const int n = R();
-    double t0 = psim_now();
-    for (int q = 0; q < n; q++) {
-        if (at[q + 1] - at[q] > INT_MAX || at[q] > INT_MAX) {
-            fprintf(stderr, "psim: rank %d: more than 2^31 values in one gather\n", me());
-            psim_dist_abort(1);
-        }
-        d->rcnt[q] = (int)(at[q + 1] - at[q]), d->rdsp[q] = (int)at[q];
-    }
-    for (int j = 0; j < k; j++) {
-        MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, a[j], d->rcnt, d->rdsp, MPI_DOUBLE,
-                       MPI_COMM_WORLD);
-        d->rs.bytes_sent += (uint64_t)(n - 1) * (at[me() + 1] - at[me()]) * sizeof(double);
-        d->rs.messages_sent += (uint64_t)(n - 1);
-    }
-    e->stats.phase_s[d->comm_phase] += psim_now() - t0;
-}
-
 void psim_engine_share(psim_sim *e, const void *mine, size_t bytes, void **all, size_t *each)
 {
     psim_dist *d = e->dist;
@@ -1039,10 +1018,6 @@ void psim_engine_sendrecv(psim_sim *e, const void *send, const size_t *sbytes, v
 {
     (void)e, (void)rbytes;
     memcpy(recv, send, sbytes[0]);
-}
-void psim_engine_allgather(psim_sim *e, double *const *a, int k, const size_t *at)
-{
-    (void)e, (void)a, (void)k, (void)at;
 }
 void psim_engine_share(psim_sim *e, const void *mine, size_t bytes, void **all, size_t *each)
 {

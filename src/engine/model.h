@@ -258,10 +258,6 @@ void psim_engine_alltoall(struct psim_sim *e, const void *send, const size_t *sb
  * no call for it).  Timed and counted as psim_engine_alltoall. */
 void psim_engine_sendrecv(struct psim_sim *e, const void *send, const size_t *sbytes,
                           void *recv, const size_t *rbytes);
-/* Over ranks, collective, for a model that shares: every rank's range
- * [at[q], at[q + 1]) of each of the k arrays a[0..k) to every rank, in
- * place.  Timed and counted as psim_engine_alltoall. */
-void psim_engine_allgather(struct psim_sim *e, double *const *a, int k, const size_t *at);
 /* Over ranks, collective, for a model that shares: each rank's `bytes`
  * bytes of mine to every rank; *all (allocated, the caller frees it)
  * holds every rank's in rank order, each[q] bytes from rank q.  Timed
