@@ -139,6 +139,9 @@ typedef struct psim_model {
      * (psim_engine_exchanged); what it sums over particles, it sums over
      * its own (psim_engine_ghost). */
     int (*halo)(const struct psim_sim *e, const void *m, psim_halo *h);
+    /* optional, for a model without halo: why it runs in one process
+     * only, a clause for the refusal over ranks ("its events ...") */
+    const char *one_process;
     /* optional: its source's own initial state of n particles from seed,
      * particles lo..hi-1 of it alone (sc then holds hi - lo; over MPI
      * ranks each rank makes its own block of ids) */
