@@ -564,8 +564,12 @@ int psim_dist_attach(psim_sim *e, psim_scene *sc, int take, psim_error *err)
 {
     const psim_model *m = e->model;
     if (!m->halo && !m->shares) {
-        psim_error_set(err, "the %s model runs in one process only (over MPI ranks: "
-                            "the models with a halo, psim models says which)", m->name);
+        if (m->one_process)
+            psim_error_set(err, "the %s model runs in one process only: %s", m->name,
+                           m->one_process);
+        else
+            psim_error_set(err, "the %s model runs in one process only (over MPI ranks: "
+                                "psim models says which run over ranks)", m->name);
         err->usage = 1;
         return -1;
     }

@@ -141,11 +141,15 @@ typedef struct psim_model {
     int (*halo)(const struct psim_sim *e, const void *m, psim_halo *h);
     /* or: over MPI ranks every rank holds every particle, and the model
      * shares out each step's work and keeps the copies equal itself
-     * (psim_engine_rank, psim_engine_alltoall, psim_engine_reduce): for
-     * a model whose results follow an order over the whole scene.  The
-     * engine then runs the steps as one process does on every rank and
-     * rank 0 writes the outputs. */
+     * (psim_engine_rank, psim_engine_sendrecv, psim_engine_share,
+     * psim_engine_reduce): for a model whose results follow an order over
+     * the whole scene.  The engine then runs the steps as one process does
+     * on every rank and rank 0 writes the outputs. */
     int shares;
+    /* optional, for a model that neither has a halo nor shares: why it
+     * runs in one process only, a clause for the refusal over ranks ("its
+     * events ...") */
+    const char *one_process;
     /* optional: its source's own initial state of n particles from seed,
      * particles lo..hi-1 of it alone (sc then holds hi - lo; over MPI
      * ranks each rank makes its own block of ids) */

@@ -459,5 +459,7 @@ const psim_model psim_model_event = {
     .create = create,
     .interact = interact,
     .check = check,
+    .one_process = "its events near a domain's side can change the other side's future "
+                   "at any time (docs/scale-out.md)",
     .destroy = destroy,
 };
