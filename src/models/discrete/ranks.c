@@ -87,6 +87,8 @@ static void *room(void **p, size_t *cap, size_t n)
     return *p;
 }
 
+/* An edge's contacts as this rank's tile found them (mine) or the other
+ * rank's (received). */
 static const dlist *side_list(const dmodel *m, const dxedge *x, int mine)
 {
     const dedge *ed = &m->edges[x->k];
@@ -134,8 +136,9 @@ static int list_disks(dmodel *m, const dlist *const *l, const dtile *t, int in_t
     return 0;
 }
 
-/* Bytes of the records for each rank: per record, `each` bytes, or the
- * sizes size(x) sum; into m->sbytes (to) and m->sbytes + R (from). */
+/* The bytes to and from each rank (m->sbytes, m->sbytes + R), zeroed.
+ * A message to a rank packs the records of its edges in their order, the
+ * order both ranks list them in. */
 static void clear_bytes(dmodel *m)
 {
     memset(m->sbytes, 0, 2 * (size_t)m->ranks * sizeof *m->sbytes);
