@@ -205,6 +205,8 @@ typedef struct dmodel {
     size_t nown;             /* the rank's disks this step (its tiles') */
     dxedge *xe;              /* the edges across this rank's side, in order */
     size_t nxe, xe_cap;
+    uint32_t *xpick;         /* a level's edges across ranks that run */
+    size_t xpick_cap;
     uint32_t *xdisk;         /* their disks (dxedge) */
     size_t nxdisk, xdisk_cap;
     uint32_t *xstamp;        /* per disk: the edge that last listed it */

@@ -37,7 +37,8 @@ int discrete_ranks_init(const psim_sim *e, dmodel *m)
 void discrete_ranks_free(dmodel *m)
 {
     free(m->sbytes), free(m->xstamp), free(m->xe), free(m->xdisk), free(m->v0);
-    free(m->sbuf), free(m->rbuf);
+    free(m->sbuf), free(m->rbuf), free(m->xpick);
+    m->xpick = NULL, m->xpick_cap = 0;
     m->sbytes = NULL, m->xstamp = NULL, m->xe = NULL, m->xdisk = NULL;
     m->v0 = NULL, m->v0_cap = 0;
     m->sbuf = m->rbuf = NULL;
@@ -284,57 +285,64 @@ static void drop_other(dmodel *m, dtile *t)
     t->nact = 0;
 }
 
+/* This level's edges across ranks that run this round, in the messages'
+ * order (by rank, then as listed), into m->xpick; how many. */
+static size_t level_edges(dmodel *m, int lv, int first)
+{
+    if (psim_reserve((void **)&m->xpick, &m->xpick_cap, m->nxe + 1, sizeof *m->xpick))
+        psim_dist_out_of_memory("the edges across ranks");
+    size_t n = 0;
+    for (int q = 0; q < m->ranks; q++)
+        for (size_t r = 0; r < m->nxe; r++) {
+            const dxedge *x = &m->xe[r];
+            if (x->q == q && x->lv == lv && discrete_edge_runs(m, x->k, first))
+                m->xpick[n++] = (uint32_t)r;
+        }
+    return n;
+}
+
 uint64_t discrete_ranks_level(psim_sim *e, dmodel *m, int lv, int first)
 {
     const int R = m->ranks;
     size_t *to = m->sbytes, *from = m->sbytes + R;
     clear_bytes(m);
+    const size_t V = 2 * sizeof(double), np = level_edges(m, lv, first);
     size_t sall = 0, rall = 0;
-    const size_t V = 2 * sizeof(double);
-    for (size_t r = 0; r < m->nxe; r++) {
-        const dxedge *x = &m->xe[r];
-        if (x->lv != lv || !discrete_edge_runs(m, x->k, first))
-            continue;
+    for (size_t p = 0; p < np; p++) {
+        const dxedge *x = &m->xe[m->xpick[p]];
         to[x->q] += 1 + V * x->n0, sall += 1 + V * x->n0;
         from[x->q] += 1 + V * x->n1, rall += 1 + V * x->n1;
     }
-    if (sall || rall) {
+    if (np) {
         /* this level's edges across ranks: for each, this rank's tile's
          * flag (its worklist changed a disk on the border) and its disks'
          * velocities; the other rank's, likewise */
         char *sb = room(&m->sbuf, &m->sbuf_cap, sall), *rb = room(&m->rbuf, &m->rbuf_cap, rall);
         if (!sb || !rb)
             psim_dist_out_of_memory("the velocities across ranks");
-        const double *vx = e->st.vx, *vy = e->st.vy;
-        size_t so = 0;
-        for (int q = 0; q < R; q++)
-            for (size_t r = 0; r < m->nxe; r++) {
-                const dxedge *x = &m->xe[r];
-                if (x->q != q || x->lv != lv || !discrete_edge_runs(m, x->k, first))
-                    continue;
-                const dedge *ed = &m->edges[x->k];
-                sb[so++] = (char)m->tiles[x->mine_a ? ed->a : ed->b].changed_border;
-                for (uint32_t h = 0; h < x->n0; h++, so += V) {
-                    uint32_t i = m->xdisk[x->m0 + h];
-                    memcpy(sb + so, &vx[i], sizeof(double));
-                    memcpy(sb + so + sizeof(double), &vy[i], sizeof(double));
-                }
+        double *vx = e->st.vx, *vy = e->st.vy;
+        size_t so = 0, ro = 0;
+        for (size_t p = 0; p < np; p++) {
+            const dxedge *x = &m->xe[m->xpick[p]];
+            const dedge *ed = &m->edges[x->k];
+            sb[so++] = (char)m->tiles[x->mine_a ? ed->a : ed->b].changed_border;
+            for (uint32_t h = 0; h < x->n0; h++, so += V) {
+                uint32_t i = m->xdisk[x->m0 + h];
+                memcpy(sb + so, &vx[i], sizeof(double));
+                memcpy(sb + so + sizeof(double), &vy[i], sizeof(double));
             }
+        }
         psim_engine_sendrecv(e, sb, to, rb, from);
-        size_t ro = 0;
-        for (int q = 0; q < R; q++)
-            for (size_t r = 0; r < m->nxe; r++) {
-                const dxedge *x = &m->xe[r];
-                if (x->q != q || x->lv != lv || !discrete_edge_runs(m, x->k, first))
-                    continue;
-                const dedge *ed = &m->edges[x->k];
-                m->tiles[x->mine_a ? ed->b : ed->a].changed_border = (uint8_t)(rb[ro++] != 0);
-                for (uint32_t h = 0; h < x->n1; h++, ro += V) {
-                    uint32_t i = m->xdisk[x->m1 + h];
-                    memcpy(&e->st.vx[i], rb + ro, sizeof(double));
-                    memcpy(&e->st.vy[i], rb + ro + sizeof(double), sizeof(double));
-                }
+        for (size_t p = 0; p < np; p++) {
+            const dxedge *x = &m->xe[m->xpick[p]];
+            const dedge *ed = &m->edges[x->k];
+            m->tiles[x->mine_a ? ed->b : ed->a].changed_border = (uint8_t)(rb[ro++] != 0);
+            for (uint32_t h = 0; h < x->n1; h++, ro += V) {
+                uint32_t i = m->xdisk[x->m1 + h];
+                memcpy(&vx[i], rb + ro, sizeof(double));
+                memcpy(&vy[i], rb + ro + sizeof(double), sizeof(double));
             }
+        }
     }
     uint64_t tasks = 0;
     for (size_t k = m->level0[lv]; k < m->level0[lv + 1]; k++) {
