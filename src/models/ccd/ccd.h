@@ -86,6 +86,9 @@ typedef struct cbands {
     size_t nband, band_cap;
     cplan *plan;
     size_t nplan, plan_cap;
+    size_t nentry;          /* entries of every band, with their pads */
+    uint8_t *mine;          /* per band, over ranks: this rank sweeps it */
+    size_t mine_cap;
 } cbands;
 
 typedef struct cmodel {

@@ -212,7 +212,7 @@ void ccd_bands_free(cbands *b)
     psim_free(b->x0), psim_free(b->x1), psim_free(b->y0), psim_free(b->y1);
     psim_free(b->first), psim_free(b->x), psim_free(b->y), psim_free(b->vx);
     psim_free(b->vy), psim_free(b->row);
-    psim_free(b->band), psim_free(b->plan);
+    psim_free(b->band), psim_free(b->plan), psim_free(b->mine);
     memset(b, 0, sizeof *b);
 }
 
@@ -309,15 +309,20 @@ static void put_sentinels(cbands *B, size_t e)
 
 /* Fill the bands of plan p: rows in left-edge order, so each band's
  * entries are in that order too (bands of each row from layout_cell). */
-static void fill_cell(cmodel *m, const psim_store *s, const psim_grid *g, const cplan *p)
+static void fill_cell(cmodel *m, const psim_store *s, const psim_grid *g, const cplan *p,
+                      const uint8_t *mine)
 {
     cbands *B = &m->bands;
     cband *bd = B->band + p->band0;
     for (uint32_t k = g->cellstart[p->cell]; k < g->cellstart[p->cell + 1]; k++)
-        for (uint32_t j = m->key2[k]; j <= m->ord2[k]; j++)
-            put_entry(B, m, s, bd[j].e1++, k, (double)m->key2[k]);
+        for (uint32_t j = m->key2[k]; j <= m->ord2[k]; j++) {
+            uint32_t at = bd[j].e1++;
+            if (!mine || mine[j])
+                put_entry(B, m, s, at, k, (double)m->key2[k]);
+        }
     for (int j = 0; j < p->nb; j++)
-        put_sentinels(B, bd[j].e1);
+        if (!mine || mine[j])
+            put_sentinels(B, bd[j].e1);
 }
 
 /* Lay out the bands of plan p from entry *at: each row's first and last
@@ -342,8 +347,8 @@ static void layout_cell(cmodel *m, const psim_grid *g, const cplan *p, size_t *a
     }
 }
 
-/* Plans, layout and entries of every big cell.  Returns -1 when out of
- * memory. */
+/* Plans and layout of every big cell (each band's entries laid out, its
+ * e1 still at e0 until fill_bands).  Returns -1 when out of memory. */
 static int build_bands(psim_sim *e, cmodel *m)
 {
     const psim_grid *g = &e->grid;
@@ -364,11 +369,27 @@ static int build_bands(psim_sim *e, cmodel *m)
     size_t total = 0;
     for (size_t i = 0; i < B->nplan; i++)
         layout_cell(m, g, &B->plan[i], &total);
-    if (total > UINT32_MAX || bands_reserve(B, total))
+    B->nentry = total;
+    if (total > UINT32_MAX || bands_reserve(B, total) ||
+        psim_reserve((void **)&B->mine, &B->mine_cap, B->nband + 1, 1))
         return -1;
-    for (size_t i = 0; i < B->nplan; i++)
-        fill_cell(m, &e->st, g, &B->plan[i]);
     return 0;
+}
+
+/* Where band i's entries end, once filled (the next band's start, less
+ * the pad): from the layout, before fill_bands. */
+static uint32_t band_end(const cbands *B, size_t i)
+{
+    return (uint32_t)((i + 1 < B->nband ? B->band[i + 1].e0 : B->nentry) - CCD_PAD);
+}
+
+/* The entries of every big cell's bands; with `mine`, of those bands
+ * alone that are marked in B->mine (the others' ends only). */
+static void fill_bands(psim_sim *e, cmodel *m, int mine)
+{
+    const cbands *B = &m->bands;
+    for (size_t i = 0; i < B->nplan; i++)
+        fill_cell(m, &e->st, &e->grid, &B->plan[i], mine ? B->mine + B->plan[i].band0 : NULL);
 }
 
 /* ---- pair tests ---------------------------------------------------------- */
@@ -734,15 +755,33 @@ static uint64_t spawn_tasks(detect_ctx *c, size_t unit)
     }
     for (size_t i = 0; i < B->nband; i++) {
         const cband *bd = &B->band[i];
-        for (uint32_t a = bd->e0; a < bd->e1; a += (uint32_t)unit) {
-            uint32_t a0 = a, a1 = bd->e1 - a > unit ? a + (uint32_t)unit : bd->e1;
-            if (share(c, 2, (double)(a1 - a0) * (double)(bd->e1 - bd->e0))) {
+        const uint32_t end = c->count ? band_end(B, i) : bd->e1;
+        for (uint32_t a = bd->e0; a < end; a += (uint32_t)unit) {
+            uint32_t a0 = a, a1 = end - a > unit ? a + (uint32_t)unit : end;
+            if (share(c, 2, (double)(a1 - a0) * (double)(end - bd->e0))) {
                 tasks++;
                 task_spawn_band(c, bd, a0, a1);
             }
         }
     }
     return tasks;
+}
+
+/* Over ranks, after the counting pass: the bands this rank sweeps (the
+ * same dealing as spawn_tasks', replayed), so that only they are filled. */
+static void mark_bands(detect_ctx *c, size_t unit)
+{
+    cbands *B = &c->m->bands;
+    const double done = c->done[2];
+    for (size_t i = 0; i < B->nband; i++) {
+        const uint32_t e0 = B->band[i].e0, end = band_end(B, i);
+        B->mine[i] = 0;
+        for (uint32_t a = e0; a < end; a += (uint32_t)unit) {
+            uint32_t a1 = end - a > unit ? a + (uint32_t)unit : end;
+            B->mine[i] |= (uint8_t)share(c, 2, (double)(a1 - a) * (double)(end - e0));
+        }
+    }
+    c->done[2] = done;
 }
 
 void ccd_detect(psim_sim *e, cmodel *m)
@@ -768,7 +807,9 @@ void ccd_detect(psim_sim *e, cmodel *m)
     if (c->count) {   /* over ranks: the weights of each kind first */
         spawn_tasks(c, unit);
         c->count = 0;
+        mark_bands(c, unit);
     }
+    fill_bands(e, m, m->ranks > 1);
     if (c->graph) {
 #pragma omp parallel num_threads(e->threads) firstprivate(c) shared(tasks, unit) default(none)
 #pragma omp single
