@@ -148,7 +148,8 @@ void ccd_gather(psim_sim *e, cmodel *m, int fail)
     if (!sbytes || !send)
         psim_dist_out_of_memory("the candidates");
     for (int q = 0; q < R; q++) {
-        memcpy(send + one * (size_t)q, m->all.c, one);
+        if (one)
+            memcpy(send + one * (size_t)q, m->all.c, one);
         sbytes[q] = one;
     }
     void *recv = NULL;
