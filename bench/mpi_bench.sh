@@ -13,8 +13,11 @@
 #                           [--steps S] [--reps K]
 #   defaults: --model force --n "100000 1000000" --layouts "1x1 1x2 2x1"
 #             --steps 1000 --reps 5; a --scene runs instead of --n
-#             (with its own model unless --model is given)
+#             (with its own model unless --model is given); --model ccd
+#             --n N: the AY2019/20 generator's scene of N disks (L =
+#             632.46 sqrt(N), r 1), in perf mode
 # Examples: bench/mpi_bench.sh --n 1000000 --reps 7
+#           bench/mpi_bench.sh --model ccd --n 20000 --steps 100 --reps 3
 #           bench/mpi_bench.sh --scene 100k_density_0.9.in --steps 100
 set -euo pipefail
 build=build
@@ -52,7 +55,14 @@ else
 fi
 case_args() {   # CASE: psim's arguments for it
     local kind=${1%% *} what=${1#* }
-    if [[ $kind == n ]]; then
+    if [[ $kind == n && $model == ccd ]]; then
+        # the AY2019/20 generator's scene of N disks, in perf mode (its
+        # density: L = 632.46 sqrt(N), r 1)
+        [[ -s $tmp/ccd.$what.in ]] ||
+            printf '%s\n%s\n1\n%s\nperf\n' "$what" \
+                "$(echo "sqrt($what) * 632.46" | bc -l | cut -d. -f1)" "$steps" >"$tmp/ccd.$what.in"
+        echo --model ccd "$tmp/ccd.$what.in"
+    elif [[ $kind == n ]]; then
         echo --model "${model:-force}" -n "$what" -s 1
     else
         echo ${model:+--model "$model"} "$what"

@@ -64,6 +64,6 @@ void ccd_advance(psim_sim *e, cmodel *m)
         if (e->tstats)
             e->tstats[me].wall_resolutions += walls;
     }
-    for (size_t k = 0; k < na; k++)
+    for (size_t k = 0; m->rank == 0 && k < na; k++)   /* (over ranks: rank 0 counts) */
         e->stats.counter[m->acc.c[k].q < 0 ? CC_WALL_COLLISIONS : CC_PAIR_COLLISIONS]++;
 }

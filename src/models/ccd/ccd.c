@@ -203,6 +203,8 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
         goto oom;
     m->L = e->L;
     m->r = e->r;
+    m->rank = psim_engine_rank(e);
+    m->ranks = psim_engine_ranks(e);
     const char *mode = getenv("PSIM_CCD_ACCEPT");
     m->accept_mode = !mode ? CCD_ACCEPT_AUTO
                    : !strcmp(mode, "seq") ? CCD_ACCEPT_SEQ
@@ -274,7 +276,7 @@ static int interact(psim_sim *e, void *p, psim_error *err)
     int walls = pairs || !(v.has_ext && ccd_walls_clear(m, v.vmax, v.ext));
     if (pairs)
         PSIM_TIMED(e, CPHASE_DETECT, rc = fit_grid(e, m, v.vmax, &regridded));
-    if (rc == 0 && regridded)
+    if (rc == 0 && regridded && m->rank == 0)   /* (over ranks, every rank's) */
         e->stats.counter[CC_REGRIDS]++;
     if (rc == 0 && pairs)
         psim_engine_sort(e);
@@ -285,16 +287,22 @@ static int interact(psim_sim *e, void *p, psim_error *err)
         PSIM_TIMED(e, CPHASE_DETECT, pairs   ? ccd_detect(e, m)
                                      : walls ? ccd_detect_walls(e, m)
                                              : detect_none(m));
-    if (psim_stop_requested())   /* the tasks ended early */
-        return psim_engine_stopped(e, err);
-    /* the order counts the candidates it gathers from the lists */
-    uint64_t found = e->stats.counter[CC_PAIR_CANDIDATES];
-    if (rc == 0 && !m->oom)
+    /* the tasks ended early, or a list could not grow */
+    int stopped = psim_stop_requested(), failed = rc || m->oom;
+    if (!stopped && !failed)
         PSIM_TIMED(e, CPHASE_ORDER, rc = ccd_order(e, m));
-    found = e->stats.counter[CC_PAIR_CANDIDATES] - found;
+    /* over ranks, every rank's candidates to every rank, also from a rank
+     * that failed (the step ends on every rank then: psim_dist_poststep) */
+    if (m->ranks > 1)
+        ccd_gather(e, m, stopped || failed || rc);   /* (timed as comm) */
+    if (stopped)
+        return psim_engine_stopped(e, err);
     /* a search that found no pair candidate: how long no pair can meet */
-    if (rc == 0 && pairs && found == 0 && m->skip && !m->oom)
+    if (rc == 0 && pairs && m->skip && !m->oom && ccd_pair_count(m->all.c, m->all.n) == 0)
         PSIM_TIMED(e, CPHASE_DETECT, ccd_flight_measure(e, m));
+    /* the candidates, counted once (over ranks, by rank 0) */
+    for (size_t k = 0; rc == 0 && !m->oom && m->rank == 0 && k < m->all.n; k++)
+        e->stats.counter[m->all.c[k].q < 0 ? CC_WALL_CANDIDATES : CC_PAIR_CANDIDATES]++;
     if (rc == 0 && !m->oom)
         PSIM_TIMED(e, CPHASE_ACCEPT, rc = ccd_accept(e, m));
     if (psim_stop_requested())   /* acceptance ended early */
@@ -419,5 +427,6 @@ const psim_model psim_model_ccd = {
                      {"wall_collisions", 1, 0, CCD_COUNT_MAX}},
     .restart_save = restart_save,
     .step_summary = step_summary,
+    .shares = 1,
     .destroy = destroy,
 };

@@ -17,7 +17,13 @@
  *   move    accepted collisions, then free flight for every other disk.
  * Candidates depend only on the start-of-step state and are found
  * exhaustively, and the order is total, so results are bit for bit those of
- * the authors' sequential program for any thread count. */
+ * the authors' sequential program for any thread count.
+ *
+ * Over MPI ranks every rank holds every disk (the engine's shares mode):
+ * each rank runs its share of the detection's tasks, the ranks' sorted
+ * candidates are gathered on every rank and merged (the one-process list,
+ * in the same order), and every rank accepts and moves the same, so the
+ * copies stay equal and the results are those of one process. */
 #ifndef PSIM_CCD_H
 #define PSIM_CCD_H
 #include <stddef.h>
@@ -80,6 +86,9 @@ typedef struct cbands {
     size_t nband, band_cap;
     cplan *plan;
     size_t nplan, plan_cap;
+    size_t nentry;          /* entries of every band, with their pads */
+    uint8_t *mine;          /* per band, over ranks: this rank sweeps it */
+    size_t mine_cap;
 } cbands;
 
 typedef struct cmodel {
@@ -113,6 +122,9 @@ typedef struct cmodel {
     int measured;           /* the gap was measured in the last step */
     psim_backoff measure;   /* searches before the next measurement */
     int oom;                /* a list could not grow this step */
+    /* over MPI ranks (every rank holds every disk, in the same order):
+     * this rank, and how many; each detects its share, all accept */
+    int rank, ranks;
 } cmodel;
 
 /* Slack of the swept boxes, the cells and the skips against round-off:
@@ -127,6 +139,8 @@ static inline double ccd_margin(const cmodel *m, double vmax)
 void ccd_detect(psim_sim *e, cmodel *m);
 void ccd_detect_walls(psim_sim *e, cmodel *m);
 int ccd_order(psim_sim *e, cmodel *m);
+void ccd_gather(psim_sim *e, cmodel *m, int fail);
+size_t ccd_pair_count(const ccand *c, size_t n);
 int ccd_accept(psim_sim *e, cmodel *m);
 void ccd_advance(psim_sim *e, cmodel *m);
 int ccd_check(psim_sim *e, void *m, const psim_snapshot *before,

@@ -212,7 +212,7 @@ void ccd_bands_free(cbands *b)
     psim_free(b->x0), psim_free(b->x1), psim_free(b->y0), psim_free(b->y1);
     psim_free(b->first), psim_free(b->x), psim_free(b->y), psim_free(b->vx);
     psim_free(b->vy), psim_free(b->row);
-    psim_free(b->band), psim_free(b->plan);
+    psim_free(b->band), psim_free(b->plan), psim_free(b->mine);
     memset(b, 0, sizeof *b);
 }
 
@@ -309,15 +309,20 @@ static void put_sentinels(cbands *B, size_t e)
 
 /* Fill the bands of plan p: rows in left-edge order, so each band's
  * entries are in that order too (bands of each row from layout_cell). */
-static void fill_cell(cmodel *m, const psim_store *s, const psim_grid *g, const cplan *p)
+static void fill_cell(cmodel *m, const psim_store *s, const psim_grid *g, const cplan *p,
+                      const uint8_t *mine)
 {
     cbands *B = &m->bands;
     cband *bd = B->band + p->band0;
     for (uint32_t k = g->cellstart[p->cell]; k < g->cellstart[p->cell + 1]; k++)
-        for (uint32_t j = m->key2[k]; j <= m->ord2[k]; j++)
-            put_entry(B, m, s, bd[j].e1++, k, (double)m->key2[k]);
+        for (uint32_t j = m->key2[k]; j <= m->ord2[k]; j++) {
+            uint32_t at = bd[j].e1++;
+            if (!mine || mine[j])
+                put_entry(B, m, s, at, k, (double)m->key2[k]);
+        }
     for (int j = 0; j < p->nb; j++)
-        put_sentinels(B, bd[j].e1);
+        if (!mine || mine[j])
+            put_sentinels(B, bd[j].e1);
 }
 
 /* Lay out the bands of plan p from entry *at: each row's first and last
@@ -342,8 +347,8 @@ static void layout_cell(cmodel *m, const psim_grid *g, const cplan *p, size_t *a
     }
 }
 
-/* Plans, layout and entries of every big cell.  Returns -1 when out of
- * memory. */
+/* Plans and layout of every big cell (each band's entries laid out, its
+ * e1 still at e0 until fill_bands).  Returns -1 when out of memory. */
 static int build_bands(psim_sim *e, cmodel *m)
 {
     const psim_grid *g = &e->grid;
@@ -364,11 +369,27 @@ static int build_bands(psim_sim *e, cmodel *m)
     size_t total = 0;
     for (size_t i = 0; i < B->nplan; i++)
         layout_cell(m, g, &B->plan[i], &total);
-    if (total > UINT32_MAX || bands_reserve(B, total))
+    B->nentry = total;
+    if (total > UINT32_MAX || bands_reserve(B, total) ||
+        psim_reserve((void **)&B->mine, &B->mine_cap, B->nband + 1, 1))
         return -1;
-    for (size_t i = 0; i < B->nplan; i++)
-        fill_cell(m, &e->st, g, &B->plan[i]);
     return 0;
+}
+
+/* Where band i's entries end, once filled (the next band's start, less
+ * the pad): from the layout, before fill_bands. */
+static uint32_t band_end(const cbands *B, size_t i)
+{
+    return (uint32_t)((i + 1 < B->nband ? B->band[i + 1].e0 : B->nentry) - CCD_PAD);
+}
+
+/* The entries of every big cell's bands; with `mine`, of those bands
+ * alone that are marked in B->mine (the others' ends only). */
+static void fill_bands(psim_sim *e, cmodel *m, int mine)
+{
+    const cbands *B = &m->bands;
+    for (size_t i = 0; i < B->nplan; i++)
+        fill_cell(m, &e->st, &e->grid, &B->plan[i], mine ? B->mine + B->plan[i].band0 : NULL);
 }
 
 /* ---- pair tests ---------------------------------------------------------- */
@@ -382,6 +403,10 @@ typedef struct detect_ctx {
     psim_thread_stats *ts;
     uint64_t tests;         /* pairs with overlapping boxes (added atomically) */
     int graph;              /* tasks (more than one thread), else direct calls */
+    /* over ranks: this rank's share of each kind of task (cells, slices,
+     * bands), by weight; `count` a pass that only sums the weights */
+    int rank, ranks, count;
+    double total[3], done[3];
 } detect_ctx;
 
 /* The exact rule on rows a, b (their boxes overlap), lower id first. */
@@ -667,6 +692,29 @@ PSIM_TASK_SPAWN static void task_spawn_band(detect_ctx *c, const cband *bd, uint
     task_band(c, bd, a0, a1);
 }
 
+/* Whether this rank runs the next task of `kind`, of weight w (the rows
+ * or entries it holds; a band's entries weighed by the band's size, as
+ * each sweeps the band).  Each kind's tasks, in the order spawn_tasks
+ * makes them, are dealt to the ranks in contiguous runs of about equal
+ * weight: a task goes to the rank whose share holds its middle.  Every
+ * rank deals the same tasks the same way (the state is the same on
+ * all), so each task runs on exactly one rank, whole.  In the counting
+ * pass no task runs. */
+static int share(detect_ctx *c, int kind, double w)
+{
+    w += 1;   /* no task weighs nothing */
+    if (c->count) {
+        c->total[kind] += w;
+        return 0;
+    }
+    if (c->ranks == 1)
+        return 1;
+    double mid = c->done[kind] + w / 2;
+    c->done[kind] += w;
+    int q = (int)(mid / c->total[kind] * c->ranks);
+    return (q < c->ranks ? q : c->ranks - 1) == c->rank;
+}
+
 /* Tasks of about `unit` rows or entries: runs of whole small cells, slices
  * of big cells, slices of bands; OpenMP tasks with no dependences
  * (detection only reads the start-of-step state).  Returns their number. */
@@ -682,8 +730,10 @@ static uint64_t spawn_tasks(detect_ctx *c, size_t unit)
         int big = cn >= BIG_CELL;
         if ((cc == g->ncells || held + cn > unit || big) && cc > c0) {
             uint32_t f0 = c0, f1 = cc;
-            tasks++;
-            task_spawn_cells(c, f0, f1);
+            if (share(c, 0, (double)(g->cellstart[f1] - g->cellstart[f0]))) {
+                tasks++;
+                task_spawn_cells(c, f0, f1);
+            }
             c0 = cc;
             held = 0;
         }
@@ -696,20 +746,42 @@ static uint64_t spawn_tasks(detect_ctx *c, size_t unit)
         uint32_t end = g->cellstart[cc + 1];
         for (uint32_t k = g->cellstart[cc]; k < end; k += (uint32_t)unit) {
             uint32_t cell = cc, k0 = k, k1 = end - k > unit ? k + (uint32_t)unit : end;
-            tasks++;
-            task_spawn_slice(c, cell, k0, k1);
+            if (share(c, 1, (double)(k1 - k0))) {
+                tasks++;
+                task_spawn_slice(c, cell, k0, k1);
+            }
         }
         c0 = cc + 1;
     }
     for (size_t i = 0; i < B->nband; i++) {
         const cband *bd = &B->band[i];
-        for (uint32_t a = bd->e0; a < bd->e1; a += (uint32_t)unit) {
-            uint32_t a0 = a, a1 = bd->e1 - a > unit ? a + (uint32_t)unit : bd->e1;
-            tasks++;
-            task_spawn_band(c, bd, a0, a1);
+        const uint32_t end = c->count ? band_end(B, i) : bd->e1;
+        for (uint32_t a = bd->e0; a < end; a += (uint32_t)unit) {
+            uint32_t a0 = a, a1 = end - a > unit ? a + (uint32_t)unit : end;
+            if (share(c, 2, (double)(a1 - a0) * (double)(end - bd->e0))) {
+                tasks++;
+                task_spawn_band(c, bd, a0, a1);
+            }
         }
     }
     return tasks;
+}
+
+/* Over ranks, after the counting pass: the bands this rank sweeps (the
+ * same dealing as spawn_tasks', replayed), so that only they are filled. */
+static void mark_bands(detect_ctx *c, size_t unit)
+{
+    cbands *B = &c->m->bands;
+    const double done = c->done[2];
+    for (size_t i = 0; i < B->nband; i++) {
+        const uint32_t e0 = B->band[i].e0, end = band_end(B, i);
+        B->mine[i] = 0;
+        for (uint32_t a = e0; a < end; a += (uint32_t)unit) {
+            uint32_t a1 = end - a > unit ? a + (uint32_t)unit : end;
+            B->mine[i] |= (uint8_t)share(c, 2, (double)(a1 - a) * (double)(end - e0));
+        }
+    }
+    c->done[2] = done;
 }
 
 void ccd_detect(psim_sim *e, cmodel *m)
@@ -728,9 +800,16 @@ void ccd_detect(psim_sim *e, cmodel *m)
         m->lists[t].n = 0;
     size_t unit = e->st.n / (8 * (size_t)e->threads);
     unit = unit < 256 ? 256 : (unit > 16384 ? 16384 : unit);
-    detect_ctx ctx = {e, m, &e->st, &e->grid, m->L, m->r, e->tstats, 0, e->threads > 1};
+    detect_ctx ctx = {e, m, &e->st, &e->grid, m->L, m->r, e->tstats, 0, e->threads > 1,
+                      m->rank, m->ranks, m->ranks > 1, {0, 0, 0}, {0, 0, 0}};
     detect_ctx *c = &ctx;
     uint64_t tasks = 0;
+    if (c->count) {   /* over ranks: the weights of each kind first */
+        spawn_tasks(c, unit);
+        c->count = 0;
+        mark_bands(c, unit);
+    }
+    fill_bands(e, m, m->ranks > 1);
     if (c->graph) {
 #pragma omp parallel num_threads(e->threads) firstprivate(c) shared(tasks, unit) default(none)
 #pragma omp single
@@ -749,15 +828,18 @@ void ccd_detect_walls(psim_sim *e, cmodel *m)
 {
     for (int t = 0; t < m->nlists; t++)
         m->lists[t].n = 0;
-    detect_ctx ctx = {e, m, &e->st, NULL, m->L, m->r, e->tstats, 0, 0};
+    detect_ctx ctx = {e, m, &e->st, NULL, m->L, m->r, e->tstats, 0, 0, m->rank, m->ranks, 0,
+                      {0, 0, 0}, {0, 0, 0}};
     detect_ctx *c = &ctx;
-    const size_t n = e->st.n;
-#pragma omp parallel num_threads(e->threads) firstprivate(c) default(none) shared(n)
+    /* over ranks: this rank's part of the store */
+    const size_t from = psim_part_lo(e->st.n, m->ranks, m->rank);
+    const size_t n = psim_part_lo(e->st.n, m->ranks, m->rank + 1) - from;
+#pragma omp parallel num_threads(e->threads) firstprivate(c) default(none) shared(n, from)
     {
         double t0 = psim_now();
         int T = omp_get_num_threads(), k = omp_get_thread_num();
         size_t lo = psim_part_lo(n, T, k), hi = psim_part_lo(n, T, k + 1);
-        detect_walls(c, (uint32_t)lo, (uint32_t)hi, &c->m->lists[k]);
+        detect_walls(c, (uint32_t)(from + lo), (uint32_t)(from + hi), &c->m->lists[k]);
         psim_tstat_add(c->ts, CPHASE_DETECT, psim_now() - t0, 1, hi - lo);
     }
 }

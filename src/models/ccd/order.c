@@ -89,6 +89,15 @@ static void sort_cands(ccand *c, ccand *tmp, size_t n)
         memcpy(c, from, n * sizeof *c);
 }
 
+/* The pair candidates among the first n of c[]. */
+size_t ccd_pair_count(const ccand *c, size_t n)
+{
+    size_t pairs = 0;
+    for (size_t k = 0; k < n; k++)
+        pairs += c[k].q >= 0;
+    return pairs;
+}
+
 int ccd_order(psim_sim *e, cmodel *m)
 {
     size_t total = 0, *off = m->off, *head = m->head;
@@ -120,6 +129,52 @@ int ccd_order(psim_sim *e, cmodel *m)
     }
     m->all.n = total;
     return 0;
+}
+
+/* Over ranks: every rank's sorted candidates to every rank, merged into
+ * `all` in the total order.  Each rank found those of its own share of
+ * the detection's tasks, each candidate on exactly one rank, from the
+ * same state (the store is the same on every rank, in the same order, so
+ * the places sp, sq hold on every rank): the merge is the candidates of
+ * one process in its order.  A rank that failed this step (fail) sends
+ * none; the others' step is then of no use, and the engine ends it on
+ * every rank (psim_dist_poststep). */
+void ccd_gather(psim_sim *e, cmodel *m, int fail)
+{
+    const int R = m->ranks;
+    const size_t n = fail ? 0 : m->all.n, one = n * sizeof *m->all.c;
+    size_t *sbytes = calloc(2 * (size_t)R, sizeof *sbytes), *rbytes = sbytes + R;
+    char *send = calloc(one * (size_t)R + 1, 1);
+    if (!sbytes || !send)
+        psim_dist_out_of_memory("the candidates");
+    for (int q = 0; q < R; q++) {
+        if (one)
+            memcpy(send + one * (size_t)q, m->all.c, one);
+        sbytes[q] = one;
+    }
+    void *recv = NULL;
+    psim_engine_alltoall(e, send, sbytes, &recv, rbytes);
+    free(send);
+    const ccand *c = recv;
+    size_t total = 0;
+    for (int q = 0; q < R; q++)
+        total += rbytes[q] / sizeof *c;
+    size_t *at = calloc((size_t)R + 1, sizeof *at), *head = calloc((size_t)R, sizeof *head);
+    if (!at || !head || psim_reserve((void **)&m->all.c, &m->all.cap, total + 1, sizeof *m->all.c))
+        psim_dist_out_of_memory("the candidates");
+    for (int q = 0; q < R; q++) {   /* rank q's run: [at[q], at[q + 1]) of recv */
+        at[q + 1] = at[q] + rbytes[q] / sizeof *c;
+        head[q] = at[q];
+    }
+    for (size_t o = 0; o < total; o++) {   /* R-way merge */
+        int best = -1;
+        for (int q = 0; q < R; q++)
+            if (head[q] < at[q + 1] && (best < 0 || cand_before(&c[head[q]], &c[head[best]])))
+                best = q;
+        m->all.c[o] = c[head[best]++];
+    }
+    m->all.n = total;
+    free(at), free(head), free(recv), free(sbytes);
 }
 
 /* The greedy pass, sequential. */
@@ -218,8 +273,9 @@ int ccd_accept(psim_sim *e, cmodel *m)
     else
         accept_seq(m);
     psim_tstat_add(e->tstats, CPHASE_ACCEPT, psim_now() - t0, rounds, n);
-    e->stats.counter[CC_ACCEPT_ROUNDS] += rounds;
-    for (size_t k = 0; k < n; k++)
-        e->stats.counter[m->all.c[k].q < 0 ? CC_WALL_CANDIDATES : CC_PAIR_CANDIDATES]++;
+    /* over ranks every rank accepts the same: rank 0 counts (the run's
+     * counters are summed over the ranks) */
+    if (m->rank == 0)
+        e->stats.counter[CC_ACCEPT_ROUNDS] += rounds;
     return 0;
 }
