@@ -137,7 +137,7 @@ ranks_case() {   # TITLE STEPS CHECK ARGS...: one model's table
             local t0 t1 secs
             t0=$(date +%s.%N)
             "${mpi[@]}" -np "$r" "$psim" "$@" --steps "$steps" --threads "$t" --pin=cores \
-                > "$tmp/summary"
+                > "$tmp/summary" 2>&1
             t1=$(date +%s.%N)
             secs=$(awk '/ steps on .* threads in / { for (i = 1; i <= NF; i++) if ($i == "in") print $(i + 1) }' \
                 "$tmp/summary" | head -1)

@@ -80,7 +80,7 @@ run() {
     # rank's threads may use every core the launcher has
     mpirun -q --oversubscribe --bind-to none -np "$r" sh -c \
         '/usr/bin/time -f %M -o "$0.$OMPI_COMM_WORLD_RANK" "$@"' "$tmp/peak" \
-        "$psim" "$@" --steps "$steps" --threads "$t" >"$tmp/summary" 2>/dev/null ||
+        "$psim" "$@" --steps "$steps" --threads "$t" >"$tmp/summary" 2>&1 ||
         true
     t1=$(date +%s.%N)
     local peak secs
