@@ -890,46 +890,6 @@ int psim_dist_said(int rc)
     return v[0];
 }
 
-void psim_engine_alltoall(psim_sim *e, const void *send, const size_t *sbytes, void **recv,
-                          size_t *rbytes)
-{
-    psim_dist *d = e->dist;
-    if (!d) {   /* one process: to itself */
-        *recv = grow(NULL, sbytes[0], "an exchange");
-        memcpy(*recv, send, sbytes[0]);
-        rbytes[0] = sbytes[0];
-        return;
-    }
-    const int n = R();
-    double t0 = psim_now();
-    size_t s = 0, r = 0;
-    for (int q = 0; q < n; q++) {
-        if (sbytes[q] > INT_MAX) {
-            fprintf(stderr, "psim: rank %d: %zu bytes for one rank in one message\n", me(),
-                    sbytes[q]);
-            psim_dist_abort(1);
-        }
-        d->scnt[q] = (int)sbytes[q];
-        if (q != me() && sbytes[q]) {
-            d->rs.bytes_sent += sbytes[q];
-            d->rs.messages_sent++;
-        }
-    }
-    counts(d->scnt, d->sdsp, d->rcnt, d->rdsp);
-    for (int q = 0; q < n; q++) {
-        if ((size_t)d->sdsp[q] != s || (size_t)d->rdsp[q] != r || s > INT_MAX - sbytes[q]) {
-            fprintf(stderr, "psim: rank %d: more than 2 GiB in one exchange\n", me());
-            psim_dist_abort(1);
-        }
-        s += sbytes[q], r += (size_t)d->rcnt[q];
-        rbytes[q] = (size_t)d->rcnt[q];
-    }
-    *recv = grow(NULL, r, "an exchange");
-    MPI_Alltoallv(send, d->scnt, d->sdsp, MPI_BYTE, *recv, d->rcnt, d->rdsp, MPI_BYTE,
-                  MPI_COMM_WORLD);
-    e->stats.phase_s[d->comm_phase] += psim_now() - t0;
-}
-
 void psim_engine_sendrecv(psim_sim *e, const void *send, const size_t *sbytes, void *recv,
                           const size_t *rbytes)
 {
@@ -1031,15 +991,6 @@ void psim_engine_share(psim_sim *e, const void *mine, size_t bytes, void **all, 
     if (bytes)
         memcpy(*all, mine, bytes);
     each[0] = bytes;
-}
-void psim_engine_alltoall(psim_sim *e, const void *send, const size_t *sbytes, void **recv,
-                          size_t *rbytes)
-{
-    (void)e;
-    if (!(*recv = malloc(sbytes[0] ? sbytes[0] : 1)))
-        psim_dist_out_of_memory("an exchange");
-    memcpy(*recv, send, sbytes[0]);
-    rbytes[0] = sbytes[0];
 }
 int psim_engine_halo_pending(const psim_sim *e) { (void)e; return 0; }
 double psim_engine_halo_wait(psim_sim *e) { (void)e; return 0; }

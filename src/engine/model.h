@@ -248,24 +248,18 @@ void psim_engine_paths(struct psim_sim *e, double p1, double p2);
 void psim_engine_reduce(struct psim_sim *e, double *sum, int nsum, double *least, int nleast);
 /* Over ranks: this rank (0 .. psim_engine_ranks - 1; 0 in one process). */
 int psim_engine_rank(const struct psim_sim *e);
-/* Over ranks, collective, for a model that shares: rank q gets
- * sbytes[q] bytes of send, packed in rank order, and *recv (allocated;
- * the caller frees it) holds what every rank sent this one, in rank
- * order, rbytes[q] from rank q.  Timed as the comm phase; the bytes and
- * messages to other ranks are counted.  Out of memory ends the job. */
-void psim_engine_alltoall(struct psim_sim *e, const void *send, const size_t *sbytes,
-                          void **recv, size_t *rbytes);
 /* Over ranks, for a model that shares: sbytes[q] bytes of send, packed
  * in rank order, to each rank q, and rbytes[q] bytes from each rank q
  * into recv (in rank order), sizes both sides know (point to point: a
  * rank that sends nothing to another and expects nothing from it makes
- * no call for it).  Timed and counted as psim_engine_alltoall. */
+ * no call for it).  Timed as the comm phase; the bytes and messages to
+ * other ranks are counted.  Out of memory ends the job. */
 void psim_engine_sendrecv(struct psim_sim *e, const void *send, const size_t *sbytes,
                           void *recv, const size_t *rbytes);
 /* Over ranks, collective, for a model that shares: each rank's `bytes`
  * bytes of mine to every rank; *all (allocated, the caller frees it)
  * holds every rank's in rank order, each[q] bytes from rank q.  Timed
- * and counted as psim_engine_alltoall. */
+ * and counted as psim_engine_sendrecv. */
 void psim_engine_share(struct psim_sim *e, const void *mine, size_t bytes, void **all,
                        size_t *each);
 /* Index of the counter called name in the stats (-1 if none). */

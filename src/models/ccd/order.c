@@ -142,19 +142,12 @@ int ccd_order(psim_sim *e, cmodel *m)
 void ccd_gather(psim_sim *e, cmodel *m, int fail)
 {
     const int R = m->ranks;
-    const size_t n = fail ? 0 : m->all.n, one = n * sizeof *m->all.c;
-    size_t *sbytes = calloc(2 * (size_t)R, sizeof *sbytes), *rbytes = sbytes + R;
-    char *send = calloc(one * (size_t)R + 1, 1);
-    if (!sbytes || !send)
+    const size_t n = fail ? 0 : m->all.n;
+    size_t *rbytes = calloc((size_t)R, sizeof *rbytes);
+    if (!rbytes)
         psim_dist_out_of_memory("the candidates");
-    for (int q = 0; q < R; q++) {
-        if (one)
-            memcpy(send + one * (size_t)q, m->all.c, one);
-        sbytes[q] = one;
-    }
     void *recv = NULL;
-    psim_engine_alltoall(e, send, sbytes, &recv, rbytes);
-    free(send);
+    psim_engine_share(e, m->all.c, n * sizeof *m->all.c, &recv, rbytes);
     const ccand *c = recv;
     size_t total = 0;
     for (int q = 0; q < R; q++)
@@ -174,7 +167,7 @@ void ccd_gather(psim_sim *e, cmodel *m, int fail)
         m->all.c[o] = c[head[best]++];
     }
     m->all.n = total;
-    free(at), free(head), free(recv), free(sbytes);
+    free(at), free(head), free(recv), free(rbytes);
 }
 
 /* The greedy pass, sequential. */
