@@ -719,7 +719,8 @@ int psim_dist_poststep(psim_sim *e, int rc, psim_error *err)
     /* the drift: the step's as the model said it (summed), or measured;
      * the two longest paths, as the model said them (else none known) */
     d->unsaid |= !d->said && !d->shares;
-    double v[5] = {rc && !stopped ? 1 : 0, stopped, rc || d->shares ? 0 : d->said ? d->moved : drift2(e),
+    const double moved = rc || d->shares ? 0 : d->said ? d->moved : drift2(e);
+    double v[5] = {rc && !stopped ? 1 : 0, stopped, moved,
                    d->pathed ? d->path[0] : INFINITY, d->pathed ? d->path[1] : INFINITY};
     for (int k = 2; k < 5; k++)
         if (v[k] != v[k])

@@ -254,7 +254,8 @@ uint64_t discrete_ranks_round_end(psim_sim *e, dmodel *m, uint64_t res, int *div
     v[0] = (double)res, v[1] = *diverged, v[2] = psim_stop_requested();
     for (uint32_t t = 0; t < m->ntiles; t++) {
         const dtile *d = &m->tiles[t];
-        v[3 + t] = discrete_mine(m, t) ? (d->p0 != d->p1 && (d->nact || d->qcount) ? XF_SCHEDULED : 0) +
+        const int runs = d->p0 != d->p1 && (d->nact || d->qcount);
+        v[3 + t] = discrete_mine(m, t) ? (runs ? XF_SCHEDULED : 0) +
                                              (d->changed_cross_prev ? XF_CROSS_PREV : 0)
                                        : 0;
     }

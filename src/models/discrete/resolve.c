@@ -223,12 +223,14 @@ static void tile_done(dtile *t, uint64_t checks, uint64_t pres, uint64_t wres, i
 }
 
 /* A worklist, its time and its disks to its thread's profile. */
-static void timed_worklist(const psim_sim *e, dmodel *m, dtile *t, int first, wpart *wp,
-                           uint64_t disks)
+static double timed_worklist(const psim_sim *e, dmodel *m, dtile *t, int first, wpart *wp,
+                             uint64_t disks)
 {
     double t0 = psim_now();
     worklist(e, m, t, first, wp);
-    psim_tstat_add(e->tstats, DPHASE_RESOLVE, psim_now() - t0, 1, disks);
+    const double dt = psim_now() - t0;
+    psim_tstat_add(e->tstats, DPHASE_RESOLVE, dt, 1, disks);
+    return dt;
 }
 
 /* Disk i (of tile a or b) changed by an edge task: to its tile's next
@@ -306,9 +308,7 @@ static void edge_task(const psim_sim *e, dmodel *m, size_t k, int first)
 static void timed_tile(const psim_sim *e, dmodel *m, dtile *t, int first)
 {
     wpart wp = {.queue = t->queue};
-    const double t0 = psim_now();
-    timed_worklist(e, m, t, first, &wp, t->p1 - t->p0);
-    t->busy += psim_now() - t0;   /* (one task a tile at a time) */
+    t->busy += timed_worklist(e, m, t, first, &wp, t->p1 - t->p0);   /* (a task a tile at a time) */
     e->tstats[wp.tid].wall_resolutions += wp.wres;
     tile_done(t, wp.checks, wp.pres, wp.wres, wp.diverged, wp.bchg);
 }
