@@ -382,15 +382,70 @@ void discrete_ranks_keep(psim_sim *e, dmodel *m)
     }
 }
 
-/* A disk's velocity as it travels: its store place, vx, vy; or a tile's
- * work: TILE_MARK | the tile, its seconds, 0. */
-#define VREC (sizeof(uint32_t) + 2 * sizeof(double))
-#define TILE_MARK 0x80000000u
+/* The end of a step sends, for each of the rank's tiles in order, a
+ * header (the tile, how many of its disks changed, the seconds its work
+ * took), a bitmap of its disks whose velocities changed (or that other
+ * ranks' edges moved too), then their velocities (vx, vy) in store
+ * order.  The tiles are the same on every rank, so their places need no
+ * indices: 16 bytes a changed disk and a bit for every disk. */
+typedef struct vhead {
+    uint32_t tile, changed;
+    double busy;
+} vhead;
+
+static size_t words_of(const dtile *d)
+{
+    return (d->p1 - d->p0 + 63) / 64;
+}
+
+/* Tile d's bitmap and velocities at out (room for all of them); returns
+ * the bytes written.  h: d's first disk's place in m->v0. */
+static size_t pack_tile(const psim_sim *e, const dmodel *m, const dtile *d, size_t h,
+                        char *out, uint32_t *changed)
+{
+    const size_t n = m->nown, W = words_of(d);
+    const double *vx = e->st.vx, *vy = e->st.vy;
+    uint64_t *bits = (uint64_t *)(void *)out;
+    double *v = (double *)(void *)(out + W * sizeof *bits);
+    uint32_t c = 0;
+    for (size_t w = 0; w < W; w++) {
+        uint64_t word = 0;
+        const uint32_t k0 = d->p0 + (uint32_t)(w * 64);
+        const uint32_t k1 = d->p1 - k0 < 64 ? d->p1 : k0 + 64;
+        for (uint32_t k = k0; k < k1; k++, h++) {
+            uint64_t a, b, a0, b0;
+            memcpy(&a, &vx[k], sizeof a), memcpy(&b, &vy[k], sizeof b);
+            memcpy(&a0, &m->v0[h], sizeof a0), memcpy(&b0, &m->v0[n + h], sizeof b0);
+            const uint64_t ch = (m->xstamp[k] == m->xnow) | (a != a0) | (b != b0);
+            word |= ch << (k - k0);
+            v[2 * c] = vx[k], v[2 * c + 1] = vy[k];   /* (kept if changed) */
+            c += (uint32_t)ch;
+        }
+        bits[w] = word;
+    }
+    *changed = c;
+    return W * sizeof *bits + 2 * (size_t)c * sizeof *v;
+}
+
+/* Tile d's velocities from another rank's bitmap at in; returns the
+ * bytes read. */
+static size_t unpack_tile(psim_sim *e, const dtile *d, const char *in, uint32_t changed)
+{
+    const size_t W = words_of(d);
+    const uint64_t *bits = (const uint64_t *)(const void *)in;
+    const double *v = (const double *)(const void *)(in + W * sizeof *bits);
+    double *vx = e->st.vx, *vy = e->st.vy;
+    for (size_t w = 0; w < W; w++)
+        for (uint64_t word = bits[w]; word; word &= word - 1) {
+            const uint32_t k = d->p0 + (uint32_t)(w * 64) + (uint32_t)__builtin_ctzll(word);
+            vx[k] = v[0], vy[k] = v[1];
+            v += 2;
+        }
+    return W * sizeof *bits + 2 * (size_t)changed * sizeof *v;
+}
 
 void discrete_ranks_sync(psim_sim *e, dmodel *m)
 {
-    const size_t n = m->nown;
-    double *vx = e->st.vx, *vy = e->st.vy;
     /* the rank's disks that other ranks' edges moved too: always sent */
     if (++m->xnow == 0) {
         memset(m->xstamp, 0, m->xn * sizeof *m->xstamp);
@@ -399,7 +454,12 @@ void discrete_ranks_sync(psim_sim *e, dmodel *m)
     for (size_t r = 0; r < m->nxe; r++)
         for (uint32_t h = 0; h < m->xe[r].n0; h++)
             m->xstamp[m->xdisk[m->xe[r].m0 + h]] = m->xnow;
-    char *sb = room(&m->sbuf, &m->sbuf_cap, (n + m->ntiles) * VREC);
+    size_t most = 0;
+    for (uint32_t t = 0; t < m->ntiles; t++)
+        if (discrete_mine(m, t))
+            most += sizeof(vhead) + words_of(&m->tiles[t]) * sizeof(uint64_t) +
+                    2 * (size_t)(m->tiles[t].p1 - m->tiles[t].p0) * sizeof(double);
+    char *sb = room(&m->sbuf, &m->sbuf_cap, most);
     if (!sb)
         psim_dist_out_of_memory("the velocities");
     size_t so = 0, h = 0;
@@ -407,22 +467,12 @@ void discrete_ranks_sync(psim_sim *e, dmodel *m)
         const dtile *d = &m->tiles[t];
         if (!discrete_mine(m, t))
             continue;
-        for (uint32_t k = d->p0; k < d->p1; k++, h++) {
-            if (m->xstamp[k] != m->xnow && !memcmp(&vx[k], &m->v0[h], sizeof *vx) &&
-                !memcmp(&vy[k], &m->v0[n + h], sizeof *vy))
-                continue;
-            memcpy(sb + so, &k, sizeof k);
-            memcpy(sb + so + sizeof k, &vx[k], sizeof *vx);
-            memcpy(sb + so + sizeof k + sizeof *vx, &vy[k], sizeof *vy);
-            so += VREC;
-        }
-        /* and the tile's work this step, to split the next (a place
-         * past any disk's marks it) */
-        const uint32_t tk = TILE_MARK | t;
-        memcpy(sb + so, &tk, sizeof tk);
-        memcpy(sb + so + sizeof tk, &d->busy, sizeof d->busy);
-        memset(sb + so + sizeof tk + sizeof d->busy, 0, sizeof(double));
-        so += VREC;
+        vhead hd = {t, 0, d->busy};
+        const size_t at = so;
+        so += sizeof hd;
+        so += pack_tile(e, m, d, h, sb + so, &hd.changed);
+        memcpy(sb + at, &hd, sizeof hd);
+        h += d->p1 - d->p0;
     }
     for (uint32_t t = 0; t < m->ntiles; t++)
         m->tcost[t] = m->tiles[t].busy = 0;
@@ -430,15 +480,15 @@ void discrete_ranks_sync(psim_sim *e, dmodel *m)
     size_t *each = m->sbytes, at = 0;
     psim_engine_share(e, sb, so, (void **)&all, each);
     for (int q = 0; q < m->ranks; q++) {
-        for (size_t o = at; o < at + each[q]; o += VREC) {
-            uint32_t i;
-            memcpy(&i, all + o, sizeof i);
-            if (i & TILE_MARK)
-                memcpy(&m->tcost[i & ~TILE_MARK], all + o + sizeof i, sizeof(double));
-            else if (q != m->rank) {
-                memcpy(&vx[i], all + o + sizeof i, sizeof *vx);
-                memcpy(&vy[i], all + o + sizeof i + sizeof *vx, sizeof *vy);
-            }
+        for (size_t o = at; o < at + each[q];) {
+            vhead hd;
+            memcpy(&hd, all + o, sizeof hd);
+            o += sizeof hd;
+            m->tcost[hd.tile] = hd.busy;
+            const dtile *d = &m->tiles[hd.tile];
+            o += q != m->rank ? unpack_tile(e, d, all + o, hd.changed)
+                              : words_of(d) * sizeof(uint64_t) +
+                                    2 * (size_t)hd.changed * sizeof(double);
         }
         at += each[q];
     }
