@@ -178,10 +178,14 @@ typedef struct psim_config {
     const char *options; /* the model's options, "KEY=VALUE,KEY=VALUE" */
     long steps;         /* steps the run will take; 0: none, so no grid is
                          * built (-1: unknown, the default) */
+    int fixed_threads;  /* every step on all the threads; 0 (the default):
+                         * a step runs on one thread where that was
+                         * measured faster (src/engine/team.h) */
 } psim_config;
 
-/* The defaults: the scene's model, every thread, automatic tiles, no
- * checks, no options, steps unknown. */
+/* The defaults: the scene's model, every thread (one where that is
+ * measured faster), automatic tiles, no checks, no options, steps
+ * unknown. */
 PSIM_API void psim_config_default(psim_config *cfg);
 
 /* Timed phases of a step (CoMD-style timers around every phase).  The

@@ -727,6 +727,10 @@ int cli_run(int argc, char **argv)
     cfg.threads = o.pin.plan.threads;
     cfg.tile_cells = (int)o.tile;
     cfg.check = o.check;
+    /* (PSIM_FIXED_THREADS=1 as well: the test suite's parallel paths run
+     * on every thread in every step) */
+    const char *fx = getenv("PSIM_FIXED_THREADS");
+    cfg.fixed_threads = o.fixed_threads || (fx && atoi(fx) > 0);
     cfg.options = o.options;
     cfg.steps = steps;
     /* The engine takes the scene's particles (freed once its store holds

@@ -43,7 +43,10 @@ static void run_usage(FILE *f)
 "  -m, --model NAME  discrete, ccd, force or event (default: the scene's; with\n"
 "                    -n, force)\n"
 "  -t, --threads N   OpenMP threads (default: OMP_NUM_THREADS, else all cores;\n"
-"                    with --pin, one per core of the policy)\n"
+"                    with --pin, one per core of the policy); a step whose\n"
+"                    threads are measured slower than one thread runs on one\n"
+"      --fixed-threads  every step on all the threads, even where one is\n"
+"                    faster (for scaling measurements)\n"
 "  -s S              --steps S; with -n, --seed S (CS267's flags)\n"
 "      --steps S     run S steps instead of the scene's\n"
 "  -n N              the model's own initial state of N particles\n"
@@ -209,6 +212,7 @@ const struct option cli_run_longs[] = {
     {"mem", required_argument, 0, CLI_OPT_MEM},
     {"dry-run", no_argument, 0, CLI_OPT_DRY_RUN},
     {"report", no_argument, 0, 'R'},
+    {"fixed-threads", no_argument, 0, 'G'},
     {"model", required_argument, 0, 'm'},
     {"substeps", required_argument, 0, 'K'},
     {"thermo", required_argument, 0, 'H'},
@@ -270,6 +274,7 @@ int parse_run(int argc, char **argv, run_opts *o)
             break;
         case 'q': o->quiet = 1; break;
         case 'R': o->report = 1; break;
+        case 'G': o->fixed_threads = 1; break;
         case CLI_OPT_PIN: case CLI_OPT_TOPOLOGY: case CLI_OPT_MEM: case CLI_OPT_DRY_RUN:
             if (cli_pin_option(&o->pin, c, optarg)) return 2;
             break;

@@ -19,7 +19,7 @@ typedef struct run_opts {
     int seed_given;
     char *options;          /* --option, --naive, --force-stats: "K=V,..." */
     char label[96];         /* the scene, for messages */
-    int check, quiet, report;
+    int check, quiet, report, fixed_threads;
     cli_pin pin;
     struct stat scene_st;   /* the scene file when it was read */
     int scene_st_ok;

@@ -71,6 +71,18 @@ static void name_stats(psim_stats *st, const psim_model *m)
     }
 }
 
+/* The engine's own stage left out: every thread but one (team.h). */
+static void team_stats(psim_sim *e)
+{
+    psim_stats *st = &e->stats;
+    e->team_skip = -1;
+    if (e->threads < 2 || st->nskips == PSIM_SKIPS_MAX)
+        return;
+    e->team_skip = st->nskips;
+    st->skip_name[st->nskips] = "threads";
+    st->skip_why[st->nskips++] = "one thread: tried, or measured faster";
+}
+
 void psim_engine_tile_particles(psim_sim *e, double particles)
 {
     e->tile_particles = particles;
@@ -396,6 +408,8 @@ psim_sim *psim_engine_create(psim_scene *sc, const psim_config *cfg,
     for (int k = 0; k < e->threads; k++)
         e->tstats[k].cpu = -1;
     e->stats.threads = e->threads;
+    psim_team_init(&e->team, e->threads, cfg->fixed_threads);
+    team_stats(e);
     e->mstate = e->model->create(e, sc, err);
     if (!e->mstate || (e->dist && psim_dist_ready(e, err)))
         goto fail;
@@ -474,6 +488,30 @@ int psim_engine_ranks(const psim_sim *e)
     return e->dist ? psim_dist_ranks() : 1;
 }
 
+/* The threads' busy seconds so far. */
+static double busy_sum(const psim_sim *e, int threads)
+{
+    double s = 0;
+    for (int k = 0; k < threads; k++)
+        for (int p = 0; p < e->stats.nphases; p++)
+            s += e->tstats[k].busy_s[p];
+    return s;
+}
+
+/* The model's step on the threads the team gives it (team.h). */
+static int team_interact(psim_sim *e, psim_error *err)
+{
+    const int all = e->threads;
+    e->threads = psim_team_next(&e->team);
+    if (e->team_skip >= 0)
+        e->stats.skipped[e->team_skip] += e->threads == 1;
+    const double w0 = busy_sum(e, all), t0 = psim_now();
+    int rc = e->model->interact(e, e->mstate, err);
+    psim_team_done(&e->team, psim_now() - t0, busy_sum(e, all) - w0);
+    e->threads = all;
+    return rc;
+}
+
 int psim_step(psim_sim *e, psim_error *err)
 {
     /* over ranks, the ranks agree on a stop at the step's end */
@@ -484,7 +522,7 @@ int psim_step(psim_sim *e, psim_error *err)
         return -1;
     if (e->cfg.check)
         PSIM_TIMED(e, PSIM_PHASE_CHECK, take_snapshot(e, &e->before));
-    int rc = e->model->interact(e, e->mstate, err);
+    int rc = team_interact(e, err);
     if (e->dist)
         rc = psim_dist_poststep(e, rc, err);
     if (rc)

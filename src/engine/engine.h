@@ -12,10 +12,13 @@
 #include "timer.h"
 #include "model.h"
 #include "poll.h"
+#include "team.h"
 
 struct psim_sim {
     psim_config cfg;
-    int threads;
+    int threads;            /* this step's team (team.h); else --threads */
+    psim_team team;
+    int team_skip;          /* its "left out" counter in stats (-1: none) */
     long n;
     double L, r;
     long step;              /* steps done */
