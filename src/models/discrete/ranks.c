@@ -398,6 +398,12 @@ static size_t words_of(const dtile *d)
     return (d->p1 - d->p0 + 63) / 64;
 }
 
+/* The bytes of tile d's bitmap and of `changed` disks' velocities. */
+static size_t tile_bytes(const dtile *d, size_t changed)
+{
+    return words_of(d) * sizeof(uint64_t) + 2 * changed * sizeof(double);
+}
+
 /* Tile d's bitmap and velocities at out (room for all of them); returns
  * the bytes written.  h: d's first disk's place in m->v0. */
 static size_t pack_tile(const psim_sim *e, const dmodel *m, const dtile *d, size_t h,
@@ -424,7 +430,7 @@ static size_t pack_tile(const psim_sim *e, const dmodel *m, const dtile *d, size
         bits[w] = word;
     }
     *changed = c;
-    return W * sizeof *bits + 2 * (size_t)c * sizeof *v;
+    return tile_bytes(d, c);
 }
 
 /* Tile d's velocities from another rank's bitmap at in; returns the
@@ -441,7 +447,7 @@ static size_t unpack_tile(psim_sim *e, const dtile *d, const char *in, uint32_t 
             vx[k] = v[0], vy[k] = v[1];
             v += 2;
         }
-    return W * sizeof *bits + 2 * (size_t)changed * sizeof *v;
+    return tile_bytes(d, changed);
 }
 
 void discrete_ranks_sync(psim_sim *e, dmodel *m)
@@ -457,8 +463,7 @@ void discrete_ranks_sync(psim_sim *e, dmodel *m)
     size_t most = 0;
     for (uint32_t t = 0; t < m->ntiles; t++)
         if (discrete_mine(m, t))
-            most += sizeof(vhead) + words_of(&m->tiles[t]) * sizeof(uint64_t) +
-                    2 * (size_t)(m->tiles[t].p1 - m->tiles[t].p0) * sizeof(double);
+            most += sizeof(vhead) + tile_bytes(&m->tiles[t], m->tiles[t].p1 - m->tiles[t].p0);
     char *sb = room(&m->sbuf, &m->sbuf_cap, most);
     if (!sb)
         psim_dist_out_of_memory("the velocities");
@@ -486,9 +491,7 @@ void discrete_ranks_sync(psim_sim *e, dmodel *m)
             o += sizeof hd;
             m->tcost[hd.tile] = hd.busy;
             const dtile *d = &m->tiles[hd.tile];
-            o += q != m->rank ? unpack_tile(e, d, all + o, hd.changed)
-                              : words_of(d) * sizeof(uint64_t) +
-                                    2 * (size_t)hd.changed * sizeof(double);
+            o += q != m->rank ? unpack_tile(e, d, all + o, hd.changed) : tile_bytes(d, hd.changed);
         }
         at += each[q];
     }
