@@ -31,7 +31,6 @@ int psim_team_next(psim_team *t)
         t->now = (t->probe & 1) ? t->max : 1;
     else
         t->now = t->choice ? t->max : 1;
-    t->single += t->now == 1 && t->max > 1;
     return t->now;
 }
 

@@ -19,8 +19,6 @@
 #ifndef PSIM_ENGINE_TEAM_H
 #define PSIM_ENGINE_TEAM_H
 
-#include <stdint.h>
-
 typedef struct psim_team {
     int max;          /* the threads asked for */
     int fixed;        /* every step on max */
@@ -32,7 +30,6 @@ typedef struct psim_team {
     double base;      /* the choice's step time */
     double avg;       /* the held steps' time, a moving average */
     long hold, left;  /* the hold's steps, and those left of it */
-    uint64_t single;  /* steps on one thread where max > 1 */
 } psim_team;
 
 void psim_team_init(psim_team *t, int max, int fixed);
