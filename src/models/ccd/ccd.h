@@ -89,6 +89,10 @@ typedef struct cbands {
     size_t nentry;          /* entries of every band, with their pads */
     uint8_t *mine;          /* per band, over ranks: this rank sweeps it */
     size_t mine_cap;
+    /* per thread and band: the entries the thread's rows put in the band,
+     * then where the next of them goes (threads x nband) */
+    uint32_t *put;
+    size_t put_cap;
 } cbands;
 
 typedef struct cmodel {

@@ -212,7 +212,7 @@ void ccd_bands_free(cbands *b)
     psim_free(b->x0), psim_free(b->x1), psim_free(b->y0), psim_free(b->y1);
     psim_free(b->first), psim_free(b->x), psim_free(b->y), psim_free(b->vx);
     psim_free(b->vy), psim_free(b->row);
-    psim_free(b->band), psim_free(b->plan), psim_free(b->mine);
+    psim_free(b->band), psim_free(b->plan), psim_free(b->mine), psim_free(b->put);
     memset(b, 0, sizeof *b);
 }
 
@@ -307,49 +307,101 @@ static void put_sentinels(cbands *B, size_t e)
     }
 }
 
-/* Fill the bands of plan p: rows in left-edge order, so each band's
- * entries are in that order too (bands of each row from layout_cell). */
-static void fill_cell(cmodel *m, const psim_store *s, const psim_grid *g, const cplan *p,
-                      const uint8_t *mine)
+/* The bands are laid out and filled by every thread of the detection,
+ * each over its own contiguous part of every big cell's rows (part t of
+ * T): each counts the entries its rows put in each band, the counts give
+ * each part its place in every band (the parts in row order), and each
+ * part copies its rows there.  A band's entries are thus in row order
+ * whatever the number of parts. */
+
+/* Rows [*k0, *k1) of plan p: part t of T. */
+static void part_rows(const psim_grid *g, const cplan *p, int t, int T, uint32_t *k0,
+                      uint32_t *k1)
+{
+    uint32_t a = g->cellstart[p->cell], n = g->cellstart[p->cell + 1] - a;
+    *k0 = a + (uint32_t)psim_part_lo(n, T, t);
+    *k1 = a + (uint32_t)psim_part_lo(n, T, t + 1);
+}
+
+/* Part t's rows: each row's first and last band (kept in the sort's
+ * scratch arrays key2, ord2, free by now), and the entries they put in
+ * each band, counted in put's row t.  Returns the rows. */
+static uint64_t count_part(cmodel *m, const psim_grid *g, int t, int T)
+{
+    uint64_t rows = 0;
+    cbands *B = &m->bands;
+    uint32_t *put = B->put + (size_t)t * B->nband;
+    memset(put, 0, B->nband * sizeof *put);
+    for (size_t i = 0; i < B->nplan; i++) {
+        const cplan *p = &B->plan[i];
+        uint32_t k0, k1;
+        part_rows(g, p, t, T, &k0, &k1);
+        rows += k1 - k0;
+        for (uint32_t k = k0; k < k1; k++) {
+            uint32_t j0 = (uint32_t)band_of(p, m->sy0[k]), j1 = (uint32_t)band_of(p, m->sy1[k]);
+            m->key2[k] = j0;
+            m->ord2[k] = j1;
+            for (uint32_t j = p->band0 + j0; j <= p->band0 + j1; j++)
+                put[j]++;
+        }
+    }
+    return rows;
+}
+
+/* Each band's place (its entries, then a pad) and each part's place in
+ * it, from the T parts' counts.  Returns -1 when out of memory. */
+static int lay_out(cmodel *m, int T)
 {
     cbands *B = &m->bands;
-    cband *bd = B->band + p->band0;
-    for (uint32_t k = g->cellstart[p->cell]; k < g->cellstart[p->cell + 1]; k++)
-        for (uint32_t j = m->key2[k]; j <= m->ord2[k]; j++) {
-            uint32_t at = bd[j].e1++;
-            if (!mine || mine[j])
-                put_entry(B, m, s, at, k, (double)m->key2[k]);
+    size_t at = 0;
+    for (size_t i = 0; i < B->nplan; i++)
+        for (int j = 0; j < B->plan[i].nb; j++) {
+            size_t b = B->plan[i].band0 + (size_t)j;
+            B->band[b] = (cband){(uint32_t)at, 0, (double)j};
+            for (int t = 0; t < T; t++) {
+                uint32_t cnt = B->put[(size_t)t * B->nband + b];
+                B->put[(size_t)t * B->nband + b] = (uint32_t)at;
+                at += cnt;
+                if (at > UINT32_MAX - CCD_PAD)
+                    return -1;
+            }
+            B->band[b].e1 = (uint32_t)at;
+            at += CCD_PAD;
         }
-    for (int j = 0; j < p->nb; j++)
-        if (!mine || mine[j])
-            put_sentinels(B, bd[j].e1);
+    B->nentry = at;
+    if (bands_reserve(B, at) || psim_reserve((void **)&B->mine, &B->mine_cap, B->nband + 1, 1))
+        return -1;
+    return 0;
 }
 
-/* Lay out the bands of plan p from entry *at: each row's first and last
- * band (kept in the sort's scratch arrays key2, ord2, free by now), the
- * bands' sizes, then their offsets. */
-static void layout_cell(cmodel *m, const psim_grid *g, const cplan *p, size_t *at)
+/* Part t's rows copied into their bands (over ranks, into the bands
+ * marked in B->mine alone, when `mine`), and the pads after the bands of
+ * part t. */
+static void fill_part(cmodel *m, const psim_store *s, const psim_grid *g, int mine, int t,
+                      int T)
 {
-    cband *bd = m->bands.band + p->band0;
-    for (int j = 0; j < p->nb; j++)
-        bd[j] = (cband){0, 0, (double)j};
-    for (uint32_t k = g->cellstart[p->cell]; k < g->cellstart[p->cell + 1]; k++) {
-        uint32_t j0 = (uint32_t)band_of(p, m->sy0[k]), j1 = (uint32_t)band_of(p, m->sy1[k]);
-        m->key2[k] = j0;
-        m->ord2[k] = j1;
-        for (uint32_t j = j0; j <= j1; j++)
-            bd[j].e1++;
+    cbands *B = &m->bands;
+    uint32_t *put = B->put + (size_t)t * B->nband;
+    for (size_t i = 0; i < B->nplan; i++) {
+        const cplan *p = &B->plan[i];
+        const uint8_t *my = mine ? B->mine + p->band0 : NULL;
+        uint32_t k0, k1, *at = put + p->band0;
+        part_rows(g, p, t, T, &k0, &k1);
+        for (uint32_t k = k0; k < k1; k++)
+            for (uint32_t j = m->key2[k]; j <= m->ord2[k]; j++) {
+                uint32_t e = at[j]++;
+                if (!my || my[j])
+                    put_entry(B, m, s, e, k, (double)m->key2[k]);
+            }
     }
-    for (int j = 0; j < p->nb; j++) {
-        size_t cnt = bd[j].e1;
-        bd[j].e0 = bd[j].e1 = (uint32_t)*at;
-        *at += cnt + CCD_PAD;
-    }
+    for (size_t b = psim_part_lo(B->nband, T, t); b < psim_part_lo(B->nband, T, t + 1); b++)
+        if (!mine || B->mine[b])
+            put_sentinels(B, B->band[b].e1);
 }
 
-/* Plans and layout of every big cell (each band's entries laid out, its
- * e1 still at e0 until fill_bands).  Returns -1 when out of memory. */
-static int build_bands(psim_sim *e, cmodel *m)
+/* The plans of every big cell's bands, and room to count their entries
+ * for T parts.  Returns -1 when out of memory. */
+static int plan_bands(psim_sim *e, cmodel *m, int T)
 {
     const psim_grid *g = &e->grid;
     cbands *B = &m->bands;
@@ -366,31 +418,9 @@ static int build_bands(psim_sim *e, cmodel *m)
         B->plan[B->nplan++] = p;
         B->nband += (size_t)p.nb;
     }
-    size_t total = 0;
-    for (size_t i = 0; i < B->nplan; i++)
-        layout_cell(m, g, &B->plan[i], &total);
-    B->nentry = total;
-    if (total > UINT32_MAX || bands_reserve(B, total) ||
-        psim_reserve((void **)&B->mine, &B->mine_cap, B->nband + 1, 1))
-        return -1;
-    return 0;
+    return psim_reserve((void **)&B->put, &B->put_cap, (size_t)T * B->nband + 1, sizeof *B->put);
 }
 
-/* Where band i's entries end, once filled (the next band's start, less
- * the pad): from the layout, before fill_bands. */
-static uint32_t band_end(const cbands *B, size_t i)
-{
-    return (uint32_t)((i + 1 < B->nband ? B->band[i + 1].e0 : B->nentry) - CCD_PAD);
-}
-
-/* The entries of every big cell's bands; with `mine`, of those bands
- * alone that are marked in B->mine (the others' ends only). */
-static void fill_bands(psim_sim *e, cmodel *m, int mine)
-{
-    const cbands *B = &m->bands;
-    for (size_t i = 0; i < B->nplan; i++)
-        fill_cell(m, &e->st, &e->grid, &B->plan[i], mine ? B->mine + B->plan[i].band0 : NULL);
-}
 
 /* ---- pair tests ---------------------------------------------------------- */
 
@@ -755,7 +785,7 @@ static uint64_t spawn_tasks(detect_ctx *c, size_t unit)
     }
     for (size_t i = 0; i < B->nband; i++) {
         const cband *bd = &B->band[i];
-        const uint32_t end = c->count ? band_end(B, i) : bd->e1;
+        const uint32_t end = bd->e1;
         for (uint32_t a = bd->e0; a < end; a += (uint32_t)unit) {
             uint32_t a0 = a, a1 = end - a > unit ? a + (uint32_t)unit : end;
             if (share(c, 2, (double)(a1 - a0) * (double)(end - bd->e0))) {
@@ -774,7 +804,7 @@ static void mark_bands(detect_ctx *c, size_t unit)
     cbands *B = &c->m->bands;
     const double done = c->done[2];
     for (size_t i = 0; i < B->nband; i++) {
-        const uint32_t e0 = B->band[i].e0, end = band_end(B, i);
+        const uint32_t e0 = B->band[i].e0, end = B->band[i].e1;
         B->mine[i] = 0;
         for (uint32_t a = e0; a < end; a += (uint32_t)unit) {
             uint32_t a1 = end - a > unit ? a + (uint32_t)unit : end;
@@ -782,6 +812,22 @@ static void mark_bands(detect_ctx *c, size_t unit)
         }
     }
     c->done[2] = done;
+}
+
+/* Each band's place and each part's in it (T parts), and over ranks,
+ * the bands this rank sweeps (a pass that only weighs the tasks first);
+ * m->oom set when out of memory. */
+static void place_bands(detect_ctx *c, size_t unit, int T)
+{
+    if (lay_out(c->m, T)) {
+        c->m->oom = 1;
+        return;
+    }
+    if (c->count) {
+        spawn_tasks(c, unit);
+        c->count = 0;
+        mark_bands(c, unit);
+    }
 }
 
 void ccd_detect(psim_sim *e, cmodel *m)
@@ -792,7 +838,7 @@ void ccd_detect(psim_sim *e, cmodel *m)
         return;
     }
     prepare_cells(e, m);
-    if (build_bands(e, m)) {
+    if (plan_bands(e, m, e->threads)) {
         m->oom = 1;
         return;
     }
@@ -804,19 +850,33 @@ void ccd_detect(psim_sim *e, cmodel *m)
                       m->rank, m->ranks, m->ranks > 1, {0, 0, 0}, {0, 0, 0}};
     detect_ctx *c = &ctx;
     uint64_t tasks = 0;
-    if (c->count) {   /* over ranks: the weights of each kind first */
-        spawn_tasks(c, unit);
-        c->count = 0;
-        mark_bands(c, unit);
-    }
-    fill_bands(e, m, m->ranks > 1);
     if (c->graph) {
 #pragma omp parallel num_threads(e->threads) firstprivate(c) shared(tasks, unit) default(none)
+        {
+            int t = omp_get_thread_num(), T = omp_get_num_threads();
+            double t0 = psim_now();
+            uint64_t rows = count_part(c->m, c->g, t, T);
+            double busy = psim_now() - t0;
+#pragma omp barrier
 #pragma omp single
-        tasks = spawn_tasks(c, unit);
+            place_bands(c, unit, T);
+            if (!c->m->oom) {
+                t0 = psim_now();
+                fill_part(c->m, c->s, c->g, c->ranks > 1, t, T);
+                psim_tstat_add(c->ts, CPHASE_DETECT, busy + psim_now() - t0, 0, rows);
+#pragma omp barrier
+#pragma omp single nowait
+                tasks = spawn_tasks(c, unit);
+            }
+        }
         e->stats.counter[CC_TASKS] += tasks;
     } else {
-        spawn_tasks(c, unit);   /* one thread: the same calls in order, no tasks */
+        count_part(m, &e->grid, 0, 1);
+        place_bands(c, unit, 1);
+        if (!m->oom) {
+            fill_part(m, &e->st, &e->grid, m->ranks > 1, 0, 1);
+            spawn_tasks(c, unit);   /* one thread: the same calls in order, no tasks */
+        }
         e->stats.skipped[CS_GRAPH]++;
     }
     e->stats.counter[CC_PAIR_TESTS] += ctx.tests;
