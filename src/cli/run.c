@@ -26,6 +26,7 @@
 #include "version.h"
 #include "../io/scene.h"
 #include "../engine/dist.h"
+#include "device.h"
 #include "../models/models.h"
 #include "../engine/timer.h"
 
@@ -701,6 +702,10 @@ int cli_run(int argc, char **argv)
     /* the scene is read with the threads asked for (all by default) */
     if (o.threads)
         omp_set_num_threads((int)o.threads);
+    if (cli_device_use(o.device)) {
+        rc = 2;
+        goto done;
+    }
     start_threads();
     double t_read = psim_now();
     int failed = load_scene(&o, &sc, &err);
