@@ -877,6 +877,8 @@ int cli_models(int argc, char **argv)
         printf("%-10s %s\n", psim_model_name(k), psim_model_summary(k));
         if (psim_model_distributed(k))
             printf("%-10s   runs over MPI ranks (mpirun -np R psim ...: docs/scale-out.md)\n", "");
+        if (psim_model_gpu(k))
+            printf("%-10s   runs on a CUDA device (--device gpu: docs/gpu.md)\n", "");
         const char *name, *help;
         for (int i = 0; psim_model_option_info(k, i, &name, &help) == 0; i++)
             printf("%-10s   --option %s=V: %s\n", "", name, help);
