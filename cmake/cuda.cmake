@@ -88,7 +88,12 @@ function(psim_cuda_link static shared)
     target_sources(${lib} PRIVATE $<TARGET_OBJECTS:psim_cuda_objects>)
   endforeach()
   target_link_libraries(${shared} PRIVATE CUDA::cudart_static)
+  # (and the C++ runtime nvcc's objects call: static locals' guards,
+  # exceptions)
+  target_link_libraries(${shared} PRIVATE stdc++)
   target_link_libraries(${static} PUBLIC $<BUILD_INTERFACE:CUDA::cudart_static>
                                          $<INSTALL_INTERFACE:${CUDA_cudart_static_LIBRARY}>
-                                         $<INSTALL_INTERFACE:rt>)
+                                         $<INSTALL_INTERFACE:rt> stdc++)
+  # psim.pc's Libs.private (cmake/install.cmake)
+  set(PSIM_CUDA_PC_LIBS ${CUDA_cudart_static_LIBRARY} -lrt -lstdc++ PARENT_SCOPE)
 endfunction()
