@@ -342,6 +342,8 @@ int cli_plan(int argc, char **argv)
     p.topo = load_topo(p.topology, &err);
     if (!p.topo) {
         cli_err("psim: %s", err.msg);
+        if (topo_only && !p.topology)   /* the devices, which need no topology */
+            cli_device_list(stdout);
         return 1;
     }
     int rc = 0;
