@@ -16,7 +16,7 @@
 static void test_grid_reach(double size, double cutoff)
 {
     fgpu_grid g;
-    CHECK(fgpu_grid_plan(size, cutoff, &g) == 0);
+    CHECK(fgpu_grid_plan(size, cutoff, 1000000000L, &g) == 0);
     CHECK(g.side >= 1 && g.side <= FGPU_MAX_SIDE);
     CHECK(size / g.side >= cutoff || g.side == 1);
     srand(7);
@@ -41,16 +41,21 @@ static void test_grid_reach(double size, double cutoff)
 static void test_grid(void)
 {
     fgpu_grid g;
-    /* CS267's box for 1000 particles: sqrt(0.0005 * 1000), cutoff 0.01 */
-    CHECK(fgpu_grid_plan(sqrt(0.5), 0.01, &g) == 0);
-    CHECK(g.side == 70);
-    CHECK(g.key_bits == 13);   /* keys up to 70 * 70 - 1 = 4899 */
-    CHECK(fgpu_grid_plan(1.0, 2.0, &g) == 0 && g.side == 1 && g.key_bits == 1);
-    CHECK(fgpu_grid_plan(1.0, 1e-9, &g) == 0 && g.side == FGPU_MAX_SIDE && g.key_bits == 32);
-    CHECK(fgpu_grid_plan(0, 0.01, &g) == -1);
-    CHECK(fgpu_grid_plan(1, 0, &g) == -1);
-    CHECK(fgpu_grid_plan(NAN, 0.01, &g) == -1);
-    CHECK(fgpu_grid_plan(1, INFINITY, &g) == -1);
+    /* CS267's box for 1e4 particles: sqrt(0.0005 * 1e4), cutoff 0.01 */
+    CHECK(fgpu_grid_plan(sqrt(5.0), 0.01, 10000, &g) == 0);
+    CHECK(g.side == 142);   /* cells the cutoff allows: 223; 2e4 cells: 142 */
+    CHECK(g.key_bits == 15);   /* keys up to 142 * 142 - 1 = 20163 */
+    CHECK(fgpu_grid_plan(sqrt(5.0), 0.01, 1000000000L, &g) == 0);
+    CHECK(g.side == 223);   /* as many as the cutoff allows */
+    CHECK(fgpu_grid_plan(1.0, 2.0, 100, &g) == 0 && g.side == 1 && g.key_bits == 1);
+    CHECK(fgpu_grid_plan(1.0, 0.5, 0, &g) == 0 && g.side == 1);
+    CHECK(fgpu_grid_plan(1.0, 1e-9, 1000000000L, &g) == 0 && g.side == 44722);
+    CHECK(fgpu_grid_plan(1.0, 1e-9, 4000000000L, &g) == 0 && g.side == FGPU_MAX_SIDE &&
+          g.key_bits == 32);
+    CHECK(fgpu_grid_plan(0, 0.01, 10, &g) == -1);
+    CHECK(fgpu_grid_plan(1, 0, 10, &g) == -1);
+    CHECK(fgpu_grid_plan(NAN, 0.01, 10, &g) == -1);
+    CHECK(fgpu_grid_plan(1, INFINITY, 10, &g) == -1);
     test_grid_reach(sqrt(0.5), 0.01);
     test_grid_reach(1.0, 0.1);   /* 10 cells wide of exactly the cutoff, but for the room */
     test_grid_reach(709.0, 4.0);
@@ -59,7 +64,7 @@ static void test_grid(void)
 static void test_cells(void)
 {
     fgpu_grid g;
-    CHECK(fgpu_grid_plan(10.0, 1.0, &g) == 0);
+    CHECK(fgpu_grid_plan(10.0, 1.0, 1000, &g) == 0);
     CHECK(g.side == 9);
     CHECK(fgpu_cell(&g, 0) == 0);
     CHECK(fgpu_cell(&g, 10.0) == 8);
@@ -74,7 +79,7 @@ static void test_cells(void)
     CHECK(r.x0 == 7 && r.x1 == 8 && r.y0 == 7 && r.y1 == 8);
     r = fgpu_around(&g, 4, 0);
     CHECK(r.x0 == 3 && r.x1 == 5 && r.y0 == 0 && r.y1 == 1);
-    CHECK(fgpu_grid_plan(1.0, 2.0, &g) == 0);
+    CHECK(fgpu_grid_plan(1.0, 2.0, 1000, &g) == 0);
     r = fgpu_around(&g, 0, 0);
     CHECK(r.x0 == 0 && r.x1 == 0 && r.y0 == 0 && r.y1 == 0);
 }
@@ -96,15 +101,16 @@ static void test_bytes(void)
     fgpu_grid g;
     size_t total = 0;
     CHECK(FGPU_BYTES_PARTICLE == 88);   /* x y vx vy id key place, twice */
-    CHECK(fgpu_grid_plan(sqrt(0.5), 0.01, &g) == 0);
+    CHECK(fgpu_grid_plan(sqrt(0.5), 0.01, 1000, &g) == 0);
+    CHECK(g.side == 45);   /* 2025 cells, about 2 a particle */
     CHECK(fgpu_bytes(1000, &g, 4096, &total) == 0);
-    CHECK(total == 1000 * 88 + 4900 * 8 + 4096);
-    CHECK(fgpu_bytes(0, &g, 0, &total) == 0 && total == 4900 * 8);
+    CHECK(total == 1000 * 88 + 2025 * 8 + 4096);
+    CHECK(fgpu_bytes(0, &g, 0, &total) == 0 && total == 2025 * 8);
     CHECK(fgpu_bytes(-1, &g, 0, &total) == -1);
-    CHECK(fgpu_bytes((long)UINT32_MAX + 1, &g, 0, &total) == -1);
-    CHECK(fgpu_bytes((long)UINT32_MAX, &g, 0, &total) == 0);
+    CHECK(fgpu_bytes((long)INT32_MAX + 1, &g, 0, &total) == -1);
+    CHECK(fgpu_bytes((long)INT32_MAX, &g, 0, &total) == 0);
     CHECK(fgpu_bytes(1000, &g, SIZE_MAX - 10, &total) == -1);
-    CHECK(fgpu_grid_plan(1.0, 1e-9, &g) == 0);   /* 65535^2 cells, 34 GB */
+    CHECK(fgpu_grid_plan(1.0, 1e-9, 4000000000L, &g) == 0);   /* 65535^2 cells, 34 GB */
     CHECK(fgpu_bytes(1, &g, 0, &total) == 0 && total == 88 + (size_t)65535 * 65535 * 8);
 }
 

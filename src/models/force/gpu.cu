@@ -239,7 +239,7 @@ extern "C" fgpu *fgpu_create(psim_store *st, const flaw *law, int device, double
     }
     g->st = st, g->law = *law, g->device = device, g->n = (uint32_t)st->n;
     size_t total;
-    if (fgpu_grid_plan(law->size, law->cutoff, &g->grid) ||
+    if (fgpu_grid_plan(law->size, law->cutoff, (long)st->n, &g->grid) ||
         fgpu_bytes((long)st->n, &g->grid, 0, &total)) {
         psim_error_set(err, "--device gpu: %zu particles in a box of %g cells a side do not "
                             "fit the device's arrays", st->n, (double)g->grid.side);

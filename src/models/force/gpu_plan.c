@@ -5,7 +5,7 @@
 
 #include "gpu_plan.h"
 
-int fgpu_grid_plan(double size, double cutoff, fgpu_grid *g)
+int fgpu_grid_plan(double size, double cutoff, long n, fgpu_grid *g)
 {
     if (!(size > 0 && size <= DBL_MAX && cutoff > 0 && cutoff <= DBL_MAX))
         return -1;
@@ -13,6 +13,8 @@ int fgpu_grid_plan(double size, double cutoff, fgpu_grid *g)
      * the pair's distance */
     double reach = cutoff * (1 + 1e-9) + 8 * DBL_EPSILON * size;
     double side = floor(size / reach);
+    double most = ceil(sqrt(FGPU_CELLS_PARTICLE * (double)(n > 1 ? n : 1)));
+    side = side < most ? side : most;
     g->side = side < 1 ? 1 : side > FGPU_MAX_SIDE ? FGPU_MAX_SIDE : (int32_t)side;
     g->inv = (double)g->side / size;
     uint64_t top = (uint64_t)g->side * (uint64_t)g->side - 1;
@@ -32,7 +34,7 @@ long fgpu_blocks(long n)
 
 int fgpu_bytes(long n, const fgpu_grid *g, size_t sort_tmp, size_t *total)
 {
-    if (n < 0 || (uint64_t)n > UINT32_MAX)
+    if (n < 0 || n > INT32_MAX)
         return -1;
     size_t cells = (size_t)g->side * (size_t)g->side;
     size_t a = (size_t)n, b = cells;

@@ -25,9 +25,12 @@ typedef struct fgpu_grid {
     int key_bits;
 } fgpu_grid;
 
-/* The grid for a box of size with this cutoff: 0, or -1 where size or
- * cutoff is not a positive finite number. */
-int fgpu_grid_plan(double size, double cutoff, fgpu_grid *g);
+/* The grid for n particles in a box of size with this cutoff, with no
+ * more than about FGPU_CELLS_PARTICLE cells a particle (wider cells, not
+ * narrower: the memory of the cells stays that of the particles): 0, or
+ * -1 where size or cutoff is not a positive finite number. */
+#define FGPU_CELLS_PARTICLE 2
+int fgpu_grid_plan(double size, double cutoff, long n, fgpu_grid *g);
 
 /* The cell column (or row) of coordinate x, held inside the grid (a
  * coordinate outside the box, or NaN, is in an edge cell). */
@@ -68,7 +71,7 @@ long fgpu_blocks(long n);
  * (every array, double-buffered for the sort), bytes of the cells, and
  * their total with sort_tmp bytes of the sort's scratch, into *total.
  * 0, or -1 where the total does not fit a size_t or n is beyond the
- * 32-bit store places. */
+ * sort's int count. */
 #define FGPU_BYTES_PARTICLE (2 * (4 * sizeof(double) + sizeof(int32_t) + 2 * sizeof(uint32_t)))
 #define FGPU_BYTES_CELL (2 * sizeof(uint32_t))
 int fgpu_bytes(long n, const fgpu_grid *g, size_t sort_tmp, size_t *total);
