@@ -312,11 +312,14 @@ extern "C" int fgpu_step(fgpu *g, fgpu_times *t, uint64_t *interactions, psim_er
     k_move<<<blocks, th>>>(g->law, g->x, g->y, g->vx, g->vy, g->x2, g->y2, g->n, g->lost);
     int lost = 0;
     unsigned long long hits = 0;
-    cudaMemcpy(&lost, g->lost, sizeof lost, cudaMemcpyDeviceToHost);
-    cudaMemcpy(&hits, g->hits, sizeof hits, cudaMemcpyDeviceToHost);
+    cudaError_t rc = cudaMemcpy(&lost, g->lost, sizeof lost, cudaMemcpyDeviceToHost);
+    if (rc == cudaSuccess)
+        rc = cudaMemcpy(&hits, g->hits, sizeof hits, cudaMemcpyDeviceToHost);
     t->integrate += lap(&t0);
     g->newer = 1;
-    if (cuda_failed(cudaGetLastError(), "step", err))
+    if (rc == cudaSuccess)
+        rc = cudaGetLastError();
+    if (cuda_failed(rc, "step", err))
         return -1;
     *interactions = hits;
     return lost;
