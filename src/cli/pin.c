@@ -12,6 +12,7 @@
 #include "options.h"
 #include "paths.h"
 #include "pin.h"
+#include "device.h"
 #include "say.h"
 #include "threads.h"
 #include "version.h"
@@ -341,11 +342,15 @@ int cli_plan(int argc, char **argv)
     p.topo = load_topo(p.topology, &err);
     if (!p.topo) {
         cli_err("psim: %s", err.msg);
+        if (topo_only && !p.topology)   /* the devices, which need no topology */
+            cli_device_list(stdout);
         return 1;
     }
     int rc = 0;
     if (topo_only) {
         psim_topo_print(stdout, p.topo);
+        if (!p.topology)   /* (a file's topology is another machine's) */
+            cli_device_list(stdout);
     } else if (ranks) {
         rc = plan_ranks(&p, (int)threads, (int)ranks);
     } else if (psim_pin_plan_make(p.topo, &p.policy, (int)threads, &p.plan, &err)) {

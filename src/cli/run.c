@@ -26,6 +26,7 @@
 #include "version.h"
 #include "../io/scene.h"
 #include "../engine/dist.h"
+#include "device.h"
 #include "../models/models.h"
 #include "../engine/timer.h"
 
@@ -701,6 +702,10 @@ int cli_run(int argc, char **argv)
     /* the scene is read with the threads asked for (all by default) */
     if (o.threads)
         omp_set_num_threads((int)o.threads);
+    if (cli_device_use(o.device)) {
+        rc = 2;
+        goto done;
+    }
     start_threads();
     double t_read = psim_now();
     int failed = load_scene(&o, &sc, &err);
@@ -872,6 +877,8 @@ int cli_models(int argc, char **argv)
         printf("%-10s %s\n", psim_model_name(k), psim_model_summary(k));
         if (psim_model_distributed(k))
             printf("%-10s   runs over MPI ranks (mpirun -np R psim ...: docs/scale-out.md)\n", "");
+        if (psim_model_gpu(k))
+            printf("%-10s   runs on a CUDA device (--device gpu: docs/gpu.md)\n", "");
         const char *name, *help;
         for (int i = 0; psim_model_option_info(k, i, &name, &help) == 0; i++)
             printf("%-10s   --option %s=V: %s\n", "", name, help);

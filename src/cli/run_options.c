@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "device.h"
 #include "options.h"
 #include "paths.h"
 #include "pin.h"
@@ -54,6 +55,9 @@ static void run_usage(FILE *f)
 "  -O, --option K=V  a model option (psim models lists them); repeatable\n"
 "      --naive       --option naive=1: the force model's O(n^2) loops\n"
 "      --force-stats --option stats=1: CS267's older absmin and absavg\n"
+"      --device D    where the steps run: cpu (default), gpu (the first CUDA\n"
+"                    device) or gpu:K (device K); the force model only, the\n"
+"                    same numbers as the CPU (docs/gpu.md)\n"
 "  -o, --out FILE    what the model's source writes: discrete, the final\n"
 "                    state, lines 'S i x y vx vy' in id order; ccd, what its\n"
 "                    authors' program prints (default: standard output; the\n"
@@ -222,6 +226,7 @@ const struct option cli_run_longs[] = {
     {"dump-every", required_argument, 0, 'E'},
     {"restart", required_argument, 0, 'W'},
     {"restart-every", required_argument, 0, 'X'},
+    {"device", required_argument, 0, 'U'},
     {0, 0, 0, 0}};
 const char cli_run_shorts[] = ":t:s:o:m:n:O:qhV";
 
@@ -232,6 +237,7 @@ int parse_run(int argc, char **argv, run_opts *o)
     o->n = -1;
     o->digits = -1;
     o->substeps = 1;
+    o->device = -1;
     opterr = 0;
     int c;
     while ((c = getopt_long(argc, argv, cli_run_shorts, cli_run_longs, NULL)) != -1) {
@@ -275,6 +281,7 @@ int parse_run(int argc, char **argv, run_opts *o)
         case 'q': o->quiet = 1; break;
         case 'R': o->report = 1; break;
         case 'G': o->fixed_threads = 1; break;
+        case 'U': if (cli_device_parse(optarg, &o->device)) return 2; break;
         case CLI_OPT_PIN: case CLI_OPT_TOPOLOGY: case CLI_OPT_MEM: case CLI_OPT_DRY_RUN:
             if (cli_pin_option(&o->pin, c, optarg)) return 2;
             break;

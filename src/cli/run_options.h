@@ -20,6 +20,7 @@ typedef struct run_opts {
     char *options;          /* --option, --naive, --force-stats: "K=V,..." */
     char label[96];         /* the scene, for messages */
     int check, quiet, report, fixed_threads;
+    int device;             /* --device: -1 the CPU, K CUDA device K */
     cli_pin pin;
     struct stat scene_st;   /* the scene file when it was read */
     int scene_st_ok;

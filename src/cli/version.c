@@ -1,7 +1,9 @@
 /* psim --version (version.h). */
 #include <stdio.h>
 
+#ifndef PSIM_NO_HWLOC
 #include <hwloc.h>
+#endif
 #include <omp.h>
 
 #include "version.h"
@@ -18,7 +20,11 @@ void cli_version(FILE *f)
 #ifdef PSIM_BUILD_FEATURES
     fprintf(f, "features: %s\n", PSIM_BUILD_FEATURES);
 #endif
+#ifdef PSIM_NO_HWLOC
+    fprintf(f, "with: OpenMP %d, no hwloc\n", _OPENMP);
+#else
     unsigned h = hwloc_get_api_version();
     fprintf(f, "with: OpenMP %d, hwloc API %u.%u\n", _OPENMP, h >> 16, (h >> 8) & 0xff);
+#endif
 }
 

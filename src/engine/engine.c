@@ -9,6 +9,7 @@
 
 #include <omp.h>
 
+#include "gpu.h"
 #include "mem.h"
 #include "timer.h"
 #include "tstats.h"
@@ -341,6 +342,45 @@ static int store_fill(psim_sim *e, const psim_scene *sc, psim_error *err)
     return 0;
 }
 
+/* The device the program chose (gpu.h), for a model with a GPU path, one
+ * process only: 0, or -1 with a usage error. */
+static int device_check(psim_sim *e, psim_error *err)
+{
+    e->device = psim_gpu_used();
+    if (e->device < 0)
+        return 0;
+    const char *why = NULL;
+    if (!e->model->gpu)
+        why = e->model->no_gpu ? e->model->no_gpu : "has no GPU path";
+    else if (e->dist)
+        why = "runs on a GPU in one process only, not over MPI ranks";
+    if (why) {
+        psim_error_set(err, "--device gpu: the %s model %s (--device cpu runs it)",
+                       e->model->name, why);
+        err->usage = 1;
+        return -1;
+    }
+    const char *none = "";
+    int count = psim_gpu_count(&none);
+    if (e->device < count)
+        return 0;
+    if (count == 0)
+        psim_error_set(err, "--device gpu: no CUDA device (%s)", none);
+    else
+        psim_error_set(err, "--device gpu:%d: no such CUDA device (this machine has %d: "
+                            "psim topo lists them)", e->device, count);
+    err->usage = 1;
+    return -1;
+}
+
+int psim_engine_device(const psim_sim *e) { return e->device; }
+
+void psim_engine_sync(const psim_sim *e)
+{
+    if (e->model->sync && e->mstate)
+        e->model->sync(e, e->mstate);
+}
+
 psim_sim *psim_engine_create(psim_scene *sc, const psim_config *cfg,
                              const psim_model *model, int take, psim_error *err)
 {
@@ -410,6 +450,8 @@ psim_sim *psim_engine_create(psim_scene *sc, const psim_config *cfg,
     e->stats.threads = e->threads;
     psim_team_init(&e->team, e->threads, cfg->fixed_threads);
     team_stats(e);
+    if (device_check(e, err))
+        goto fail;
     e->mstate = e->model->create(e, sc, err);
     if (!e->mstate || (e->dist && psim_dist_ready(e, err)))
         goto fail;
@@ -440,6 +482,7 @@ void psim_destroy(psim_sim *e)
 void psim_get_state(const psim_sim *e, double *x, double *y, double *vx,
                     double *vy)
 {
+    psim_engine_sync(e);
     const psim_store *s = &e->st;
     for (size_t k = 0; k < s->n; k++) {
         int32_t i = s->id[k];
@@ -575,6 +618,7 @@ int psim_state_finite(const psim_sim *e, psim_error *err)
 {
     if (e->dist)   /* every rank's, together */
         return psim_dist_finite(e, err);
+    psim_engine_sync(e);
     size_t bad = psim_engine_not_finite(e, NULL);
     if (bad == e->st.n)
         return 0;
@@ -634,6 +678,7 @@ void psim_print_skips(FILE *f, const psim_sim *e)
 int psim_write_output(psim_sim *e, FILE *f, long step, int final, int digits)
 {
     BY_PARTS(e, f, psim_write_output(v_, f_, step, final, digits));
+    psim_engine_sync(e);
     if (e->model->write_state)
         return e->model->write_state(e, e->mstate, f, step, final,
                                      digits >= 0 ? digits : e->model->output_digits);
@@ -642,6 +687,7 @@ int psim_write_output(psim_sim *e, FILE *f, long step, int final, int digits)
 
 int psim_state_cols_take(const psim_sim *e, psim_cols *c)
 {
+    psim_engine_sync(e);
     const psim_store *s = &e->st;
     int32_t *at = psim_alloc((s->n > 0 ? s->n : 1) * sizeof *at);
     const long id0 = e->part ? e->part->id0 : 0;

@@ -16,6 +16,7 @@
 
 struct psim_sim {
     psim_config cfg;
+    int device;             /* CUDA device (gpu.h), or -1: the CPU */
     int threads;            /* this step's team (team.h); else --threads */
     psim_team team;
     int team_skip;          /* its "left out" counter in stats (-1: none) */

@@ -154,6 +154,15 @@ typedef struct psim_model {
      * particles lo..hi-1 of it alone (sc then holds hi - lo; over MPI
      * ranks each rank makes its own block of ids) */
     int (*generate)(psim_scene *sc, long n, uint64_t seed, long lo, long hi, psim_error *err);
+    /* optional: its GPU path (--device gpu, gpu.h; docs/gpu.md).  With gpu
+     * set, its create reads psim_engine_device and, given a device, keeps
+     * the state there between steps; sync then brings the store up to date
+     * from the device before the engine reads it (outputs, --check,
+     * restart files).  A model without one is refused a device, saying
+     * why in no_gpu ("has no GPU path" if NULL). */
+    int gpu;
+    void (*sync)(const struct psim_sim *e, void *m);
+    const char *no_gpu;
     void (*destroy)(void *m);
 } psim_model;
 
@@ -262,6 +271,11 @@ void psim_engine_sendrecv(struct psim_sim *e, const void *send, const size_t *sb
  * and counted as psim_engine_sendrecv. */
 void psim_engine_share(struct psim_sim *e, const void *mine, size_t bytes, void **all,
                        size_t *each);
+/* The CUDA device the simulation runs on (gpu.h), or -1: the CPU. */
+int psim_engine_device(const struct psim_sim *e);
+/* The store brought up to date from the model's device (model.h: sync),
+ * where its state lives there; else nothing. */
+void psim_engine_sync(const struct psim_sim *e);
 /* Index of the counter called name in the stats (-1 if none). */
 int psim_engine_counter(const struct psim_sim *e, const char *name);
 

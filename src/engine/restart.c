@@ -207,6 +207,7 @@ static size_t restart_line(char *out, long j, const void *vctx)
 int psim_write_restart(psim_sim *e, FILE *f, long steps)
 {
     BY_PARTS(e, f, psim_write_restart(v_, f_, steps));
+    psim_engine_sync(e);
     restart_lines c = {.st = &e->st};
     psim_cols by_id = {0};
     int rc = -1;

@@ -40,6 +40,8 @@ int psim_model_distributed(int k)
     return k >= 0 && k < NMODELS && (models[k]->halo != NULL || models[k]->shares);
 }
 
+int psim_model_gpu(int k) { return k >= 0 && k < NMODELS && models[k]->gpu; }
+
 const psim_model *psim_model_find(const char *name)
 {
     for (int k = 0; k < NMODELS; k++)

@@ -7,6 +7,8 @@
 const psim_model *psim_model_find(const char *name);
 /* Whether model k runs over MPI ranks (it has a halo, or shares the work). */
 int psim_model_distributed(int k);
+/* Whether model k has a GPU path (--device gpu; model.h: gpu). */
+int psim_model_gpu(int k);
 /* psim_generate_scene's part `part` of `parts`: the block of ids
  * n*part/parts .. n*(part+1)/parts - 1 (a part of a scene, scene.h),
  * which is the whole scene when parts is 1. */

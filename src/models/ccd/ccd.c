@@ -428,5 +428,6 @@ const psim_model psim_model_ccd = {
     .restart_save = restart_save,
     .step_summary = step_summary,
     .shares = 1,
+    .no_gpu = "is not yet on the GPU",
     .destroy = destroy,
 };

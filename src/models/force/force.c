@@ -2,6 +2,7 @@
  * step (neighbour lists or the naive loops), and the course's output. */
 #include <float.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -170,6 +171,7 @@ static void destroy(void *p)
     fmodel *m = p;
     if (!m)
         return;
+    fgpu_destroy(m->gpu);
     for (uint32_t t = 0; m->tiles && t < m->cap_tiles; t++) {
         ftile *t_ = &m->tiles[t];
         for (int b = 0; b < FORCE_BUCKETS; b++)
@@ -216,6 +218,26 @@ static int naive_too_long(const psim_sim *e, psim_error *err)
     return 1;
 }
 
+/* --device gpu (gpu.h): the store onto the device; the naive option
+ * changes nothing there (the same sums in the same order). */
+static void *gpu_create(psim_sim *e, fmodel *m, psim_error *err)
+{
+    if (m->stats) {
+        psim_error_set(err, "--device gpu: --force-stats runs on the CPU only (--device cpu)");
+        err->usage = 1;
+        destroy(m);
+        return NULL;
+    }
+    m->gpu_stats = &e->stats;
+    m->gpu = fgpu_create(&e->st, &m->law, psim_engine_device(e),
+                         &e->stats.phase_s[FPHASE_COPY], err);
+    if (!m->gpu) {
+        destroy(m);
+        return NULL;
+    }
+    return m;
+}
+
 static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
 {
     fmodel *m = calloc(1, sizeof *m);
@@ -240,6 +262,8 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
         destroy(m);
         return NULL;
     }
+    if (psim_engine_device(e) >= 0)
+        return gpu_create(e, m, err);
     if (m->naive && naive_too_long(e, err)) {
         destroy(m);
         return NULL;
@@ -272,10 +296,55 @@ static int lists_stale(const psim_sim *e, const fmodel *m)
     return !m->built || m->closing > m->room;
 }
 
+/* The message of a step in which a particle left the box for good. */
+static int lost_error(const psim_sim *e, fmodel *m, psim_error *err)
+{
+    if (m->lost_step)
+        return 0;
+    m->lost_step = e->step + 1;
+    psim_error_set(err, "step %ld: a particle left the box for good (dt %g is too large "
+                        "for the force: try --option dt=...)", e->step + 1, m->law.dt);
+    return -1;
+}
+
+/* A step on the device (gpu.h), timed as the CPU path's phases. */
+static int gpu_interact(psim_sim *e, fmodel *m, psim_error *err)
+{
+    fgpu_times t = {0};
+    uint64_t hits = 0;
+    int rc = fgpu_step(m->gpu, &t, &hits, err);
+    e->stats.phase_s[PSIM_PHASE_SORT] += t.sort;
+    e->stats.phase_s[FPHASE_FORCE] += t.force;
+    e->stats.phase_s[FPHASE_INTEGRATE] += t.integrate;
+    e->stats.counter[FC_INTERACTIONS] += hits / 2;   /* pairs, as the lists count them */
+    if (rc < 0)
+        return -1;
+    return rc ? lost_error(e, m, err) : 0;
+}
+
+/* The store brought up to date from the device (model.h: sync). */
+static void gpu_sync(const psim_sim *e, void *p)
+{
+    fmodel *m = p;
+    (void)e;
+    if (!m->gpu)
+        return;
+    double s = fgpu_sync(m->gpu);
+    if (s < 0) {
+        /* the engine is about to read states the device could not give:
+         * nothing it writes would be true */
+        fputs("psim: --device gpu: the state could not be copied from the device\n", stderr);
+        exit(1);
+    }
+    m->gpu_stats->phase_s[FPHASE_COPY] += s;
+}
+
 static int interact(psim_sim *e, void *p, psim_error *err)
 {
     fmodel *m = p;
     int rc = 0;
+    if (m->gpu)
+        return gpu_interact(e, m, err);
     if (m->quiet >= 2 && m->skip && !m->naive && psim_engine_ranks(e) == 1) {   /* at rest: nothing can change */
         e->stats.skipped[FS_MOVE]++;
         return 0;
@@ -301,13 +370,7 @@ static int interact(psim_sim *e, void *p, psim_error *err)
         psim_error_set(err, "out of memory for the forces of step %ld", e->step + 1);
         return -1;
     }
-    if (rc && !m->lost_step) {
-        m->lost_step = e->step + 1;
-        psim_error_set(err, "step %ld: a particle left the box for good (dt %g is too large "
-                            "for the force: try --option dt=...)", e->step + 1, m->law.dt);
-        return -1;
-    }
-    return 0;
+    return rc ? lost_error(e, m, err) : 0;
 }
 
 /* Every particle inside the box, positions and velocities finite. */
@@ -453,6 +516,7 @@ const psim_model psim_model_force = {
     .phases = {[FPHASE_NLIST - PSIM_PHASE_MODEL] = "nlist",
                [FPHASE_FORCE - PSIM_PHASE_MODEL] = "force",
                [FPHASE_INTEGRATE - PSIM_PHASE_MODEL] = "integrate",
+               [FPHASE_COPY - PSIM_PHASE_MODEL] = "copy",
                [FPHASE_END - PSIM_PHASE_MODEL] = NULL},
     .thermo = {"interactions", NULL},
     .counters = {[FC_PAIR_TESTS] = "pair_tests",
@@ -490,5 +554,7 @@ const psim_model psim_model_force = {
     .step_time = step_time,
     .generate = generate,
     .halo = halo,
+    .gpu = 1,
+    .sync = gpu_sync,
     .destroy = destroy,
 };

@@ -11,7 +11,9 @@
  * code, for any thread count.  Phases:
  *   nlist      the lists (only at rebuilds; the sort is the engine's);
  *   force      pair tests and forces, as records, a task per tile;
- *   integrate  records handed across tiles, sums, the move in place.
+ *   integrate  records handed across tiles, sums, the move in place;
+ *   copy       (--device gpu, gpu.h) the state copied to and from the
+ *              device.
  * --option naive=1 runs the course's O(n^2) loops instead (for tests). */
 #ifndef PSIM_FORCE_H
 #define PSIM_FORCE_H
@@ -22,9 +24,11 @@
 #include "../../engine/cpu.h"
 #include "../../engine/engine.h"
 #include "../../engine/nearest.h"
+#include "gpu.h"
 #include "law.h"
 
-enum { FPHASE_NLIST = PSIM_PHASE_MODEL, FPHASE_FORCE, FPHASE_INTEGRATE, FPHASE_END };
+enum { FPHASE_NLIST = PSIM_PHASE_MODEL, FPHASE_FORCE, FPHASE_INTEGRATE, FPHASE_COPY,
+       FPHASE_END };
 enum { FC_PAIR_TESTS, FC_INTERACTIONS, FC_REBUILDS, FC_LIST_ENTRIES, FC_TASKS, FC_SORTED,
        FC_END };
 /* Stages left out where the scene cannot use them (force.c, step.c). */
@@ -203,6 +207,8 @@ typedef struct fmodel {
     double absmin, absavg;
     long nabsavg;
     long lost_step;         /* first step a particle left the box (0: none) */
+    fgpu *gpu;              /* --device gpu: the state on the device (gpu.h) */
+    psim_stats *gpu_stats;  /* where its copies are timed */
 } fmodel;
 
 /* A bound on half of how far any two particles have moved relative to

@@ -11,11 +11,14 @@
  *     while (x < 0 || x > size) { x = x < 0 ? -x : 2*size - x; vx = -vx; }
  *     and likewise y.
  *
- * Built without fused multiply-add (-ffp-contract=off), as the course's
- * code is compiled for x86-64 without FMA. */
+ * Built without fused multiply-add (-ffp-contract=off; nvcc --fmad=false),
+ * as the course's code is compiled for x86-64 without FMA.  The CPU path
+ * and the CUDA kernels (gpu.cu) both call these functions (PSIM_HD). */
 #ifndef PSIM_FORCE_LAW_H
 #define PSIM_FORCE_LAW_H
 #include <math.h>
+
+#include "../../engine/hd.h"
 
 typedef struct flaw {
     double size, cutoff, mass, dt;
@@ -25,24 +28,36 @@ typedef struct flaw {
 
 /* The force coefficient of a pair at squared distance r2 within the
  * cutoff: the force on p is (coef dx, coef dy), dx = q.x - p.x. */
-static inline double flaw_coef(const flaw *k, double r2)
+PSIM_HD static inline double flaw_coef(const flaw *k, double r2)
 {
     r2 = r2 >= k->min_r2 ? r2 : k->min_r2;   /* fmax(r2, min_r2), NaN too, inline */
     double r = sqrt(r2);
     return (1 - k->cutoff / r) / r2 / k->mass;
 }
 
-/* Force of q on p, added to (*ax, *ay); returns whether they interact. */
-static inline int flaw_pair(const flaw *k, double px, double py, double qx, double qy,
-                            double *ax, double *ay)
+/* Force of q on p, to (*fx, *fy); returns whether they interact. */
+PSIM_HD static inline int flaw_force(const flaw *k, double px, double py, double qx,
+                                     double qy, double *fx, double *fy)
 {
     double dx = qx - px, dy = qy - py;
     double r2 = dx * dx + dy * dy;
     if (r2 > k->cutoff2)
         return 0;
     double coef = flaw_coef(k, r2);
-    *ax += coef * dx;
-    *ay += coef * dy;
+    *fx = coef * dx;
+    *fy = coef * dy;
+    return 1;
+}
+
+/* Force of q on p, added to (*ax, *ay); returns whether they interact. */
+PSIM_HD static inline int flaw_pair(const flaw *k, double px, double py, double qx, double qy,
+                                    double *ax, double *ay)
+{
+    double fx, fy;
+    if (!flaw_force(k, px, py, qx, qy, &fx, &fy))
+        return 0;
+    *ax += fx;
+    *ay += fy;
     return 1;
 }
 
@@ -51,7 +66,7 @@ static inline int flaw_pair(const flaw *k, double px, double py, double qx, doub
  * (a step far too large for the force) would loop for ever, so psim
  * stops after FLAW_MAX_BOUNCES and reports it (returns -1). */
 #define FLAW_MAX_BOUNCES 64
-static inline int flaw_bounce(double size, double *x, double *v)
+PSIM_HD static inline int flaw_bounce(double size, double *x, double *v)
 {
     for (int b = 0; *x < 0 || *x > size; b++) {
         if (b == FLAW_MAX_BOUNCES)
@@ -64,12 +79,12 @@ static inline int flaw_bounce(double size, double *x, double *v)
 
 /* The course's move of one coordinate before the walls: v += a dt, then
  * x += v dt. */
-static inline double flaw_kick(const flaw *k, double v, double a) { return v + a * k->dt; }
-static inline double flaw_drift(const flaw *k, double x, double v) { return x + v * k->dt; }
+PSIM_HD static inline double flaw_kick(const flaw *k, double v, double a) { return v + a * k->dt; }
+PSIM_HD static inline double flaw_drift(const flaw *k, double x, double v) { return x + v * k->dt; }
 
 /* The course's move of one particle given its acceleration; new position
  * to (*nx, *ny).  Returns -1 when it left the box for good. */
-static inline int flaw_move(const flaw *k, double x, double y, double *vx, double *vy,
+PSIM_HD static inline int flaw_move(const flaw *k, double x, double y, double *vx, double *vy,
                             double ax, double ay, double *nx, double *ny)
 {
     *vx = flaw_kick(k, *vx, ax);
