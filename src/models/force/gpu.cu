@@ -2,9 +2,8 @@
  *
  * The state lives on the device between steps, as a structure of arrays
  * like the store's.  A step:
- *   sort       each particle's cell key (gpu_plan.h), a radix sort of
- *              (key, place) pairs (CUB DeviceRadixSort), the arrays
- *              gathered into key order, and each cell's range of places;
+ *   sort       the engine's device sort by cell key (gpu_store.cuh), on
+ *              cells no narrower than the cutoff (gpu_grid.h);
  *   force      a thread a particle: the forces of the particles within
  *              the cutoff in the cells around its own (law.h's flaw_force,
  *              the CPU path's arithmetic), summed from +0 in partner id
@@ -20,10 +19,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#include <cub/device/device_radix_sort.cuh>
 #include <cub/block/block_reduce.cuh>
 #include <cuda_runtime.h>
 
+#include "../../engine/gpu_store.cuh"
 extern "C" {
 #include "../../engine/timer.h"
 #include "gpu.h"
@@ -33,86 +32,25 @@ extern "C" {
 struct fgpu {
     psim_store *st;
     flaw law;
-    fgpu_grid grid;
-    uint32_t n;
+    psim_gpu_grid grid;
+    psim_dstore d;                  /* the state; after the sort x2, y2 hold ax, ay */
     int device;
-    double *x, *y, *vx, *vy;        /* the state, in cell key order */
-    double *x2, *y2, *vx2, *vy2;    /* gather targets; then ax, ay */
-    int32_t *id, *id2;
-    uint32_t *key, *key2, *place, *place2;
-    uint32_t *cstart, *cend;        /* each cell's places [start, end) */
-    void *tmp;                      /* the radix sort's scratch */
-    size_t tmp_bytes;
     int *lost;                      /* a particle left the box */
     unsigned long long *hits;       /* interactions, this step */
     int newer;                      /* the device's state is newer than the store's */
 };
 
-/* A CUDA call's error into err, naming the call: -1; else 0. */
-static int cuda_failed(cudaError_t rc, const char *what, psim_error *err)
-{
-    if (rc == cudaSuccess)
-        return 0;
-    psim_error_set(err, "--device gpu: %s: %s", what, cudaGetErrorString(rc));
-    return -1;
-}
-
-/* Each particle's cell key, and its place. */
-__global__ void k_keys(fgpu_grid g, const double *x, const double *y, uint32_t *key,
-                       uint32_t *place, uint32_t n)
-{
-    uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
-    if (i >= n)
-        return;
-    key[i] = fgpu_key(&g, x[i], y[i]);
-    place[i] = i;
-}
-
-/* The arrays into key order: to[i] = from[place[i]]. */
-__global__ void k_gather(const uint32_t *place, uint32_t n, const double *x, const double *y,
-                         const double *vx, const double *vy, const int32_t *id, double *x2,
-                         double *y2, double *vx2, double *vy2, int32_t *id2)
-{
-    uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
-    if (i >= n)
-        return;
-    uint32_t p = place[i];
-    x2[i] = x[p], y2[i] = y[p], vx2[i] = vx[p], vy2[i] = vy[p], id2[i] = id[p];
-}
-
-/* Each occupied cell's first and end place, from the sorted keys (empty
- * cells keep start = end = 0). */
-__global__ void k_ranges(const uint32_t *key, uint32_t n, uint32_t *cstart, uint32_t *cend)
-{
-    uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
-    if (i >= n)
-        return;
-    uint32_t k = key[i];
-    if (i == 0 || key[i - 1] != k)
-        cstart[k] = i;
-    if (i == n - 1 || key[i + 1] != k)
-        cend[k] = i + 1;
-}
-
 /* The particles of the cells around particle i's, as a range per row of
- * cells (the cells of a row are consecutive keys, their places one run). */
+ * cells. */
 struct around {
     const uint32_t *cstart, *cend;
-    fgpu_grid g;
-    fgpu_range r;
+    psim_gpu_grid g;
+    psim_gpu_range r;
 };
 
 __device__ static inline void row_run(const around &a, int32_t row, uint32_t *b, uint32_t *e)
 {
-    uint32_t k0 = (uint32_t)row * (uint32_t)a.g.side;
-    *b = UINT32_MAX, *e = 0;
-    for (int32_t cx = a.r.x0; cx <= a.r.x1; cx++) {
-        uint32_t s = a.cstart[k0 + cx], t = a.cend[k0 + cx];
-        if (s < t) {
-            *b = *b < s ? *b : s;
-            *e = *e > t ? *e : t;
-        }
-    }
+    psim_drow_run(a.cstart, a.cend, a.g, a.r, row, b, e);
 }
 
 /* The force on particle i of the one partner with the least id above
@@ -144,7 +82,7 @@ __device__ static int32_t next_partner(const flaw &k, const around &a, uint32_t 
 __global__ void k_force(flaw k, around a, const double *x, const double *y, const int32_t *id,
                         uint32_t n, double *ax_out, double *ay_out, unsigned long long *hits)
 {
-    typedef cub::BlockReduce<unsigned long long, FGPU_THREADS> reduce;
+    typedef cub::BlockReduce<unsigned long long, PSIM_GPU_THREADS> reduce;
     __shared__ typename reduce::TempStorage shared;
     uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
     unsigned long long mine = 0;
@@ -152,7 +90,7 @@ __global__ void k_force(flaw k, around a, const double *x, const double *y, cons
         int32_t pid[FGPU_LOCAL];
         double pfx[FGPU_LOCAL], pfy[FGPU_LOCAL];
         int np = 0, over = 0;
-        a.r = fgpu_around(&a.g, fgpu_cell(&a.g, x[i]), fgpu_cell(&a.g, y[i]));
+        a.r = psim_gpu_around(&a.g, psim_gpu_cell(&a.g, x[i]), psim_gpu_cell(&a.g, y[i]));
         for (int32_t row = a.r.y0; row <= a.r.y1; row++) {
             uint32_t b, e;
             row_run(a, row, &b, &e);
@@ -202,33 +140,6 @@ __global__ void k_move(flaw k, double *x, double *y, double *vx, double *vy, con
     x[i] = nx, y[i] = ny, vx[i] = u, vy[i] = w;
 }
 
-/* Device arrays of the state, every one or none. */
-static int alloc_all(fgpu *g, psim_error *err)
-{
-    size_t d = (size_t)g->n * sizeof(double), w = (size_t)g->n * sizeof(uint32_t);
-    size_t cells = (size_t)g->grid.side * (size_t)g->grid.side * sizeof(uint32_t);
-    void **dbl[] = {(void **)&g->x, (void **)&g->y, (void **)&g->vx, (void **)&g->vy,
-                    (void **)&g->x2, (void **)&g->y2, (void **)&g->vx2, (void **)&g->vy2};
-    void **word[] = {(void **)&g->id, (void **)&g->id2, (void **)&g->key, (void **)&g->key2,
-                     (void **)&g->place, (void **)&g->place2};
-    for (void **p : dbl)
-        if (cuda_failed(cudaMalloc(p, d ? d : 1), "device memory", err))
-            return -1;
-    for (void **p : word)
-        if (cuda_failed(cudaMalloc(p, w ? w : 1), "device memory", err))
-            return -1;
-    if (cuda_failed(cudaMalloc((void **)&g->cstart, cells), "device memory", err) ||
-        cuda_failed(cudaMalloc((void **)&g->cend, cells), "device memory", err) ||
-        cuda_failed(cudaMalloc((void **)&g->lost, sizeof(int)), "device memory", err) ||
-        cuda_failed(cudaMalloc((void **)&g->hits, sizeof(unsigned long long)), "device memory",
-                    err))
-        return -1;
-    cub::DeviceRadixSort::SortPairs(nullptr, g->tmp_bytes, g->key, g->key2, g->place,
-                                    g->place2, (int)g->n, 0, g->grid.key_bits);
-    return cuda_failed(cudaMalloc(&g->tmp, g->tmp_bytes ? g->tmp_bytes : 1),
-                       "device memory for the sort", err);
-}
-
 extern "C" fgpu *fgpu_create(psim_store *st, const flaw *law, int device, double *copy_s,
                              psim_error *err)
 {
@@ -237,9 +148,9 @@ extern "C" fgpu *fgpu_create(psim_store *st, const flaw *law, int device, double
         psim_error_set(err, "out of memory");
         return NULL;
     }
-    g->st = st, g->law = *law, g->device = device, g->n = (uint32_t)st->n;
+    g->st = st, g->law = *law, g->device = device;
     size_t total;
-    if (fgpu_grid_plan(law->size, law->cutoff, (long)st->n, &g->grid) ||
+    if (psim_gpu_grid_plan(law->size, law->cutoff, (long)st->n, &g->grid) ||
         fgpu_bytes((long)st->n, &g->grid, 0, &total)) {
         psim_error_set(err, "--device gpu: %zu particles in a box of %g cells a side do not "
                             "fit the device's arrays", st->n, (double)g->grid.side);
@@ -247,14 +158,10 @@ extern "C" fgpu *fgpu_create(psim_store *st, const flaw *law, int device, double
         return NULL;
     }
     double t0 = psim_now();
-    size_t d = st->n * sizeof(double);
-    if (cuda_failed(cudaSetDevice(device), "device", err) || alloc_all(g, err) ||
-        cuda_failed(cudaMemcpy(g->x, st->x, d, cudaMemcpyHostToDevice), "copy", err) ||
-        cuda_failed(cudaMemcpy(g->y, st->y, d, cudaMemcpyHostToDevice), "copy", err) ||
-        cuda_failed(cudaMemcpy(g->vx, st->vx, d, cudaMemcpyHostToDevice), "copy", err) ||
-        cuda_failed(cudaMemcpy(g->vy, st->vy, d, cudaMemcpyHostToDevice), "copy", err) ||
-        cuda_failed(cudaMemcpy(g->id, st->id, st->n * sizeof(int32_t), cudaMemcpyHostToDevice),
-                    "copy", err)) {
+    if (psim_cuda_failed(cudaSetDevice(device), "device", err) ||
+        psim_dstore_create(&g->d, st, g->grid.side, err) ||
+        psim_dalloc(&g->lost, sizeof(int), err) ||
+        psim_dalloc(&g->hits, sizeof(unsigned long long), err)) {
         fgpu_destroy(g);
         return NULL;
     }
@@ -271,45 +178,23 @@ static double lap(double *t0)
     return dt;
 }
 
-template <typename T> static void swap_ptr(T **a, T **b)
-{
-    T *t = *a;
-    *a = *b, *b = t;
-}
-
-/* The sort: keys, the radix sort, the gather, the cells' ranges. */
-static void sort_step(fgpu *g, unsigned blocks)
-{
-    const unsigned th = FGPU_THREADS;
-    size_t cells = (size_t)g->grid.side * (size_t)g->grid.side * sizeof(uint32_t);
-    k_keys<<<blocks, th>>>(g->grid, g->x, g->y, g->key, g->place, g->n);
-    cub::DeviceRadixSort::SortPairs(g->tmp, g->tmp_bytes, g->key, g->key2, g->place,
-                                    g->place2, (int)g->n, 0, g->grid.key_bits);
-    k_gather<<<blocks, th>>>(g->place2, g->n, g->x, g->y, g->vx, g->vy, g->id, g->x2, g->y2,
-                             g->vx2, g->vy2, g->id2);
-    swap_ptr(&g->x, &g->x2), swap_ptr(&g->y, &g->y2);
-    swap_ptr(&g->vx, &g->vx2), swap_ptr(&g->vy, &g->vy2), swap_ptr(&g->id, &g->id2);
-    cudaMemsetAsync(g->cstart, 0, cells);
-    cudaMemsetAsync(g->cend, 0, cells);
-    k_ranges<<<blocks, th>>>(g->key2, g->n, g->cstart, g->cend);
-}
-
 extern "C" int fgpu_step(fgpu *g, fgpu_times *t, uint64_t *interactions, psim_error *err)
 {
-    long nb = fgpu_blocks((long)g->n);
+    psim_dstore *d = &g->d;
+    long nb = psim_gpu_blocks((long)d->n);
     if (nb <= 0)
         return 0;
-    const unsigned blocks = (unsigned)nb, th = FGPU_THREADS;
+    const unsigned blocks = (unsigned)nb, th = PSIM_GPU_THREADS;
     double t0 = psim_now();
-    sort_step(g, blocks);
+    psim_dstore_sort(d, g->grid, blocks);
     t->sort += lap(&t0);
     cudaMemsetAsync(g->hits, 0, sizeof *g->hits);
     cudaMemsetAsync(g->lost, 0, sizeof *g->lost);
-    around a = {g->cstart, g->cend, g->grid, {0, 0, 0, 0}};
+    around a = {d->cstart, d->cend, g->grid, {0, 0, 0, 0}};
     /* x2, y2: free after the gather, the accelerations */
-    k_force<<<blocks, th>>>(g->law, a, g->x, g->y, g->id, g->n, g->x2, g->y2, g->hits);
+    k_force<<<blocks, th>>>(g->law, a, d->x, d->y, d->id, d->n, d->x2, d->y2, g->hits);
     t->force += lap(&t0);
-    k_move<<<blocks, th>>>(g->law, g->x, g->y, g->vx, g->vy, g->x2, g->y2, g->n, g->lost);
+    k_move<<<blocks, th>>>(g->law, d->x, d->y, d->vx, d->vy, d->x2, d->y2, d->n, g->lost);
     int lost = 0;
     unsigned long long hits = 0;
     cudaError_t rc = cudaMemcpy(&lost, g->lost, sizeof lost, cudaMemcpyDeviceToHost);
@@ -319,7 +204,7 @@ extern "C" int fgpu_step(fgpu *g, fgpu_times *t, uint64_t *interactions, psim_er
     g->newer = 1;
     if (rc == cudaSuccess)
         rc = cudaGetLastError();
-    if (cuda_failed(rc, "step", err))
+    if (psim_cuda_failed(rc, "step", err))
         return -1;
     *interactions = hits;
     return lost;
@@ -330,18 +215,7 @@ extern "C" double fgpu_sync(fgpu *g)
     if (!g->newer)
         return 0;
     double t0 = psim_now();
-    psim_store *st = g->st;
-    size_t d = st->n * sizeof(double);
-    cudaError_t rc = cudaMemcpy(st->x, g->x, d, cudaMemcpyDeviceToHost);
-    if (rc == cudaSuccess)
-        rc = cudaMemcpy(st->y, g->y, d, cudaMemcpyDeviceToHost);
-    if (rc == cudaSuccess)
-        rc = cudaMemcpy(st->vx, g->vx, d, cudaMemcpyDeviceToHost);
-    if (rc == cudaSuccess)
-        rc = cudaMemcpy(st->vy, g->vy, d, cudaMemcpyDeviceToHost);
-    if (rc == cudaSuccess)
-        rc = cudaMemcpy(st->id, g->id, st->n * sizeof(int32_t), cudaMemcpyDeviceToHost);
-    if (rc != cudaSuccess)
+    if (psim_dstore_download(&g->d, g->st) != cudaSuccess)
         return -1;
     g->newer = 0;
     return psim_now() - t0;
@@ -351,11 +225,10 @@ extern "C" void fgpu_destroy(fgpu *g)
 {
     if (!g)
         return;
-    void *all[] = {g->x,   g->y,    g->vx,   g->vy,     g->x2,     g->y2,   g->vx2,
-                   g->vy2, g->id,   g->id2,  g->key,    g->key2,   g->place, g->place2,
-                   g->cstart, g->cend, g->tmp, g->lost, g->hits};
-    for (void *p : all)
-        if (p)
-            cudaFree(p);
+    psim_dstore_free(&g->d);
+    if (g->lost)
+        cudaFree(g->lost);
+    if (g->hits)
+        cudaFree(g->hits);
     free(g);
 }
