@@ -1,16 +1,19 @@
 #!/usr/bin/env bash
-# The force model on a CUDA device against psim's CPU path on every core,
-# in the same run: n = 1e5, 1e6, 1e7 particles (CS267's scenes), 1000
-# steps, no output; for each n the GPU's and the CPU's time_s from --stats
-# (the steps, without start-up), their ratio, and the copies between host
-# and device (the copy phase of --stats: the state up at the start, down
-# only where an output or a check reads it, here never) with their share
-# of the GPU run's steps and copies together.
+# A model on a CUDA device against psim's CPU path on every core, in the
+# same run, no output; for each size the GPU's and the CPU's time_s from
+# --stats (the steps, without start-up), their ratio, and the copies
+# between host and device (the copy phase of --stats: the state up at the
+# start, down only where an output or a check reads it, here never) with
+# their share of the GPU run's steps and copies together.
+#   force  CS267's scenes of n = 1e5, 1e6, 1e7 particles, 1000 steps;
+#   ccd    the CS3210 AY2019/20 generator's scenes (its density: a box of
+#          632.46 sqrt(N), r = 1) of 1e4, 1e5, 1e6 disks, 100 steps.
 #
-# usage: bench/gpu_bench.sh [--steps S] [--sizes "N ..."] [--device D]
-#                           [--threads P] [BUILD_DIR]
-#   --steps S    steps per run (default 1000)
-#   --sizes L    particle counts (default "100000 1000000 10000000")
+# usage: bench/gpu_bench.sh [--model M] [--steps S] [--sizes "N ..."]
+#                           [--device D] [--threads P] [BUILD_DIR]
+#   --model M    force (default) or ccd
+#   --steps S    steps per run (default: the model's, above)
+#   --sizes L    particle counts (default: the model's, above)
 #   --device D   --device value of the GPU runs (default gpu)
 #   --threads P  the CPU runs' threads (default: every core, nproc)
 #   BUILD_DIR    directory holding psim (default build)
@@ -18,22 +21,29 @@
 # Prints a Markdown table; needs python3 (its standard library).
 set -euo pipefail
 
-steps=1000
-sizes="100000 1000000 10000000"
+model=force
+steps=
+sizes=
 device=gpu
 threads=$(nproc)
 build=build
 while [ $# -gt 0 ]; do
     case "$1" in
+        --model) model="$2"; shift 2 ;;
         --steps) steps="$2"; shift 2 ;;
         --sizes) sizes="$2"; shift 2 ;;
         --device) device="$2"; shift 2 ;;
         --threads) threads="$2"; shift 2 ;;
-        -h|--help) sed -n '2,18p' "$0"; exit 0 ;;
+        -h|--help) sed -n '2,22p' "$0"; exit 0 ;;
         -*) echo "gpu_bench.sh: unknown option: $1" >&2; exit 2 ;;
         *) build="$1"; shift ;;
     esac
 done
+case "$model" in
+    force) steps=${steps:-1000}; sizes=${sizes:-"100000 1000000 10000000"} ;;
+    ccd) steps=${steps:-100}; sizes=${sizes:-"10000 100000 1000000"} ;;
+    *) echo "gpu_bench.sh: --model force or ccd, not '$model'" >&2; exit 2 ;;
+esac
 psim="$build/psim"
 [ -x "$psim" ] || { echo "gpu_bench.sh: missing $psim (build first)" >&2; exit 1; }
 tmp=$(mktemp -d)
@@ -43,11 +53,19 @@ trap 'rm -rf "$tmp"' EXIT
 run() {
     local n=$1 where=$2
     shift 2
-    "$psim" -q --model force -n "$n" --seed 1 --steps "$steps" "$@" \
-        --stats "$tmp/$n.$where.json"
+    if [ "$model" = force ]; then
+        "$psim" -q --model force -n "$n" --seed 1 --steps "$steps" "$@" \
+            --stats "$tmp/$n.$where.json"
+    else
+        awk -v n="$n" -v s="$steps" 'BEGIN { printf "%d\n%.2f\n1\n%d\nperf\n", n, 632.46 * sqrt(n), s }' \
+            >"$tmp/$n.in"
+        "$psim" -q --model ccd "$@" --stats "$tmp/$n.$where.json" "$tmp/$n.in" >/dev/null
+    fi
 }
 
-echo "force model, $steps steps, CS267 scenes; GPU --device $device, CPU --threads $threads"
+scenes="CS267 scenes"
+[ "$model" = ccd ] && scenes="the CS3210 AY2019/20 generator's scenes"
+echo "$model model, $steps steps, $scenes; GPU --device $device, CPU --threads $threads"
 echo
 echo "| n | GPU s | CPU s | CPU / GPU | GPU ms/step | copies (share of steps + copies) |"
 echo "|---|---|---|---|---|---|"

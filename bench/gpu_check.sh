@@ -1,14 +1,18 @@
 #!/usr/bin/env bash
-# The force model's GPU path checked on a machine with a CUDA device, in
+# The GPU paths (force, ccd) checked on a machine with a CUDA device, in
 # one command of a few minutes: nvcc (on PATH or /usr/local/cuda) and CMake
 # are all it needs, not hwloc, jemalloc, MPI or any package to install.
 # Writes into OUTDIR:
 #   build.log       configure and build (-DPSIM_CUDA=ON, without hwloc,
 #                   jemalloc and MPI), and psim --version and psim topo
 #   gpu_tests.log   ctest -L gpu: the tests that need a device
-#   same_bytes.txt  --device gpu against --threads 1, cmp of -o and --final
-#                   on the CS267 scenes of 1e4, 1e5 and 1e6 particles
-#   bench.md        bench/gpu_bench.sh's table (1e5, 1e6, 1e7; 1000 steps)
+#   same_bytes.txt  --device gpu against the CPU path, cmp of -o and --final:
+#                   force on the CS267 scenes of 1e4, 1e5 and 1e6 particles
+#                   (against --threads 1), ccd on the CS3210 AY2019/20
+#                   generator's scenes of 1e4, 1e5 and 1e6 disks (against
+#                   every core: the bytes do not depend on the threads)
+#   bench.md        bench/gpu_bench.sh's tables: force (1e5, 1e6, 1e7; 1000
+#                   steps) and ccd (1e4, 1e5, 1e6; 100 steps)
 #   summary.txt     one line a part: PASS, FAIL or SKIP, and why
 # Exits 0 when every part passed; 1 when one failed; 3 when it found no
 # CUDA device (after the build, whose log it still writes).
@@ -61,7 +65,7 @@ else
     failed=1
 fi
 
-# --- the same bytes on the CS267 scenes ---------------------------------------
+# --- the same bytes -----------------------------------------------------------
 steps=1000
 [[ $quick == --quick ]] && steps=100
 tmp=$(mktemp -d)
@@ -81,19 +85,41 @@ for n in 10000 100000 1000000; do
         failed=1
     fi
 done
+for n in 10000 100000 1000000; do
+    s=$((steps / 5))
+    ((n >= 100000)) && s=$((steps / 20))
+    ((n >= 1000000)) && s=$((steps / 100))
+    awk -v n="$n" -v s="$s" 'BEGIN { printf "%d\n%.2f\n1\n%d\nperf\n", n, 632.46 * sqrt(n), s }' >"$tmp/ccd.in"
+    psim=("$build/psim" -q --model ccd)
+    if "${psim[@]}" --threads "$jobs" -o "$tmp/cpu.out" --final "$tmp/cpu.fin" "$tmp/ccd.in" 2>>"$out/same_bytes.txt" &&
+        "${psim[@]}" --device gpu -o "$tmp/gpu.out" --final "$tmp/gpu.fin" "$tmp/ccd.in" 2>>"$out/same_bytes.txt" &&
+        cmp "$tmp/cpu.out" "$tmp/gpu.out" >>"$out/same_bytes.txt" 2>&1 &&
+        cmp "$tmp/cpu.fin" "$tmp/gpu.fin" >>"$out/same_bytes.txt" 2>&1; then
+        echo "ccd n $n, $s steps: -o and --final the same bytes ($(wc -c <"$tmp/cpu.out") and $(wc -c <"$tmp/cpu.fin"))" >>"$out/same_bytes.txt"
+    else
+        echo "ccd n $n, $s steps: DIFFER or failed" >>"$out/same_bytes.txt"
+        failed=1
+    fi
+done
 if grep -q "DIFFER" "$out/same_bytes.txt"; then
     say "same bytes: FAIL (same_bytes.txt)"
 else
     say "same bytes: PASS (same_bytes.txt)"
 fi
 
-# --- the benchmark ------------------------------------------------------------
-bsteps=1000
-[[ $quick == --quick ]] && bsteps=50
-if bash "$src/bench/gpu_bench.sh" --steps "$bsteps" "$build" >"$out/bench.md" 2>&1; then
-    say "bench: PASS (bench.md)"
-else
-    say "bench: FAIL (bench.md)"
-    failed=1
-fi
+# --- the benchmarks -----------------------------------------------------------
+bsteps=1000 csteps=100
+[[ $quick == --quick ]] && bsteps=50 csteps=10
+: >"$out/bench.md"
+for m in force ccd; do
+    ms=$bsteps
+    [[ $m == ccd ]] && ms=$csteps
+    if bash "$src/bench/gpu_bench.sh" --model "$m" --steps "$ms" "$build" >>"$out/bench.md" 2>&1; then
+        say "bench $m: PASS (bench.md)"
+    else
+        say "bench $m: FAIL (bench.md)"
+        failed=1
+    fi
+    echo >>"$out/bench.md"
+done
 exit "$failed"

@@ -1,15 +1,20 @@
 /* The GPU paths' host-side plans (engine/gpu_grid.h, the force model's
  * models/force/gpu_plan.h): cells no narrower than the reach, so that
  * every pair within it is in adjacent cells; the cells around a cell held inside the grid; blocks of
- * a launch; device memory and its overflow; and law.h's force, which the
- * kernels and the CPU path share.  Runs on every build, CUDA or not. */
+ * a launch; device memory and its overflow; law.h's force, which the
+ * kernels and the CPU path share; and the ccd model's: its candidates'
+ * sort keys give the CPU path's total order, and its cells hold every
+ * pair the rules can make a candidate of in adjacent cells.  Runs on every build, CUDA or not. */
 #include <float.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "check.h"
 #include "engine/gpu_grid.h"
+#include "models/ccd/cand.h"
+#include "models/ccd/rules.h"
 #include "models/force/gpu_plan.h"
 #include "models/force/law.h"
 
@@ -131,6 +136,89 @@ static void test_law(void)
     CHECK(flaw_force(&k, 0.5, 0.5, 0.52, 0.5, &fx, &fy) == 0);
 }
 
+/* The ccd model's order (order.c's ccd_cand_cmp, restated): time, then
+ * P, then Q with the wall (-1) first. */
+static int cand_cmp(const void *pa, const void *pb)
+{
+    const ccand *a = pa, *b = pb;
+    if (a->t != b->t)
+        return a->t < b->t ? -1 : 1;
+    if (a->p != b->p)
+        return a->p < b->p ? -1 : 1;
+    return (a->q > b->q) - (a->q < b->q);
+}
+
+/* The GPU path's order: by the time key, then the id key (its stable
+ * radix sorts, by id key then by time key). */
+static int key_cmp(const void *pa, const void *pb)
+{
+    const ccand *a = pa, *b = pb;
+    uint64_t ta = ccd_time_key(a->t), tb = ccd_time_key(b->t);
+    if (ta != tb)
+        return ta < tb ? -1 : 1;
+    uint64_t ia = ccd_id_key(a->p, a->q), ib = ccd_id_key(b->p, b->q);
+    return (ia > ib) - (ia < ib);
+}
+
+static void test_ccd_keys(void)
+{
+    enum { N = 20000 };
+    static ccand a[N], b[N];
+    const double times[] = {0.0, -0.0, 1.0, 0.5, 0.25, 1e-300, 4.9e-324, -1e-300, -2.5,
+                            0.9999999999999999, INFINITY, -INFINITY, 1e300, 0.1};
+    srand(11);
+    for (int k = 0; k < N; k++) {
+        a[k].t = k % 3 ? (double)rand() / RAND_MAX
+                       : times[rand() % (int)(sizeof times / sizeof times[0])];
+        a[k].p = rand() % 50;
+        a[k].q = rand() % 4 == 0 ? -1 : a[k].p + 1 + rand() % 50;
+        if (k % 97 == 0)
+            a[k].p = INT32_MAX - 1, a[k].q = k % 2 ? -1 : INT32_MAX;
+    }
+    memcpy(b, a, sizeof a);
+    qsort(a, N, sizeof *a, cand_cmp);
+    qsort(b, N, sizeof *b, key_cmp);
+    int same = 1;
+    for (int k = 0; k < N && same; k++)
+        same = a[k].p == b[k].p && a[k].q == b[k].q && a[k].t == b[k].t;
+    CHECK_MSG(same, "the keys' order is not the total order");
+    CHECK(ccd_time_key(-0.0) == ccd_time_key(0.0));
+    CHECK(ccd_time_key(-1.0) < ccd_time_key(-0.5) && ccd_time_key(0.5) < ccd_time_key(1.0));
+    CHECK(ccd_id_key(3, -1) < ccd_id_key(3, 4) && ccd_id_key(3, INT32_MAX) < ccd_id_key(4, -1));
+}
+
+/* Every pair the rules make a candidate of (within a step, speeds up to
+ * vmax = |vx| + |vy|) is in adjacent cells of a grid at least ccd_reach
+ * wide. */
+static void test_ccd_reach(double L, double r, double vmax)
+{
+    psim_gpu_grid g;
+    CHECK(psim_gpu_grid_plan(L, ccd_reach(L, r, vmax), 1000000000L, &g) == 0);
+    srand(13);
+    int found = 0;
+    for (int k = 0; k < 400000; k++) {
+        double R = ccd_reach(L, r, vmax);
+        double px = L * rand() / RAND_MAX, py = L * rand() / RAND_MAX;
+        double qx = px + R * (2.0 * rand() / RAND_MAX - 1);
+        double qy = py + R * (2.0 * rand() / RAND_MAX - 1);
+        double v[4], t;
+        for (int j = 0; j < 4; j += 2) {
+            double share = (double)rand() / RAND_MAX, s = vmax * rand() / RAND_MAX;
+            v[j] = (rand() % 2 ? s : -s) * share;
+            v[j + 1] = (rand() % 2 ? s : -s) * (1 - share);
+        }
+        if (qx < 0 || qx > L || qy < 0 || qy > L ||
+            !ccd_pair_time(px, py, v[0], v[1], qx, qy, v[2], v[3], r, &t))
+            continue;
+        found++;
+        int32_t ex = psim_gpu_cell(&g, px) - psim_gpu_cell(&g, qx);
+        int32_t ey = psim_gpu_cell(&g, py) - psim_gpu_cell(&g, qy);
+        CHECK_MSG(ex >= -1 && ex <= 1 && ey >= -1 && ey <= 1,
+                  "L %g r %g vmax %g: a candidate %d, %d cells apart", L, r, vmax, ex, ey);
+    }
+    CHECK_MSG(found > 1000, "L %g r %g vmax %g: %d candidates made", L, r, vmax, found);
+}
+
 int main(void)
 {
     test_grid();
@@ -138,5 +226,9 @@ int main(void)
     test_blocks();
     test_bytes();
     test_law();
+    test_ccd_keys();
+    test_ccd_reach(1000.0, 1.0, 2.0);
+    test_ccd_reach(20000.0, 0.5, 10.0);
+    test_ccd_reach(50.0, 2.0, 0.1);
     return check_done();
 }

@@ -57,7 +57,7 @@ static int fit_grid(psim_sim *e, cmodel *m, double vmax, int *regridded)
 {
     m->vmax = vmax;
     m->margin = ccd_margin(m, vmax);
-    double reach = 2 * m->r + 2 * vmax + 2 * m->margin;
+    double reach = ccd_reach(m->L, m->r, vmax);
     *regridded = 0;
     if (e->has_grid && reach <= e->grid.h &&
         !(reach * 3 < e->grid.h && e->grid.G < (int)ceil(sqrt((double)e->n / 3.0))))
@@ -80,6 +80,7 @@ static void destroy(void *p)
     psim_free(m->wmax);
     psim_free(m->ord), psim_free(m->key), psim_free(m->key2), psim_free(m->ord2);
     ccd_bands_free(&m->bands);
+    cgpu_destroy(m->gpu);
     for (int t = 0; m->lists && t < m->nlists; t++)
         psim_free(m->lists[t].c);
     free(m->lists);
@@ -182,6 +183,20 @@ static int limits(const psim_sim *e, const psim_scene *sc, psim_limits *lim, psi
     return 0;
 }
 
+/* --device gpu (gpu.h): the store and the collision counts onto the
+ * device. */
+static void *gpu_create(psim_sim *e, cmodel *m, psim_error *err)
+{
+    m->gpu_stats = &e->stats;
+    m->gpu = cgpu_create(&e->st, m->L, m->r, m->pcoll, m->wcoll, psim_engine_device(e),
+                         &e->stats.phase_s[CPHASE_COPY], err);
+    if (!m->gpu) {
+        destroy(m);
+        return NULL;
+    }
+    return m;
+}
+
 static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
 {
     /* (the model's own restart file holds a state the rule reached: a disk
@@ -228,11 +243,65 @@ static void *create(psim_sim *e, const psim_scene *sc, psim_error *err)
         fit_grid(e, m, velocities(e, 0).vmax, &regridded))
         goto oom;
     restart_load(e, sc, m);
+    if (psim_engine_device(e) >= 0)
+        return gpu_create(e, m, err);
     return m;
 oom:
     destroy(m);
     psim_error_set(err, "out of memory for the ccd model");
     return NULL;
+}
+
+/* A step on the device (gpu.h), timed and counted as the CPU path's
+ * phases and counters (its pair tests: each pair of disks in adjacent
+ * cells, once). */
+static int gpu_interact(psim_sim *e, cmodel *m, psim_error *err)
+{
+    cgpu_step_out o = {0};
+    int rc = cgpu_step(m->gpu, &o, err);
+    double *s = e->stats.phase_s;
+    s[CPHASE_DETECT] += o.detect, s[PSIM_PHASE_SORT] += o.sort, s[CPHASE_ORDER] += o.order;
+    s[CPHASE_ACCEPT] += o.accept, s[PSIM_PHASE_MOVE] += o.move;
+    uint64_t *c = e->stats.counter;
+    c[CC_PAIR_TESTS] += o.tests, c[CC_PAIR_CANDIDATES] += o.pair_cands;
+    c[CC_WALL_CANDIDATES] += o.wall_cands, c[CC_PAIR_COLLISIONS] += o.pair_colls;
+    c[CC_WALL_COLLISIONS] += o.wall_colls, c[CC_ACCEPT_ROUNDS] += o.rounds;
+    c[CC_REGRIDS] += o.regrids;
+    return rc;
+}
+
+/* The store and the collision counts brought up to date from the device
+ * (model.h: sync). */
+static void gpu_sync(const psim_sim *e, void *p)
+{
+    cmodel *m = p;
+    (void)e;
+    if (!m->gpu)
+        return;
+    double s = cgpu_sync(m->gpu, m->pcoll, m->wcoll);
+    if (s < 0) {
+        /* the engine is about to read states the device could not give:
+         * nothing it writes would be true */
+        fputs("psim: --device gpu: the state could not be copied from the device\n", stderr);
+        exit(1);
+    }
+    m->gpu_stats->phase_s[CPHASE_COPY] += s;
+}
+
+int ccd_gpu_lists(cmodel *m, psim_error *err)
+{
+    size_t n = cgpu_candidates(m->gpu);
+    if (psim_reserve((void **)&m->all.c, &m->all.cap, n + 1, sizeof *m->all.c) ||
+        psim_reserve((void **)&m->acc.c, &m->acc.cap, n + 1, sizeof *m->acc.c)) {
+        psim_error_set(err, "out of memory in --check");
+        return -1;
+    }
+    m->all.n = n;
+    if (cgpu_lists(m->gpu, m->all.c, m->acc.c, &m->acc.n)) {
+        psim_error_set(err, "--device gpu: the candidates could not be copied from the device");
+        return -1;
+    }
+    return 0;
 }
 
 /* Clear the candidate lists: a step with neither pairs nor walls. */
@@ -256,6 +325,8 @@ static void detect_none(cmodel *m)
 static int interact(psim_sim *e, void *p, psim_error *err)
 {
     cmodel *m = p;
+    if (m->gpu)
+        return gpu_interact(e, m, err);
     int regridded = 0, rc = 0;
     cvel v;
     /* the extent matters only where the pair search may be left out */
@@ -399,6 +470,7 @@ const psim_model psim_model_ccd = {
     .phases = {[CPHASE_DETECT - PSIM_PHASE_MODEL] = "detect",
                [CPHASE_ORDER - PSIM_PHASE_MODEL] = "order",
                [CPHASE_ACCEPT - PSIM_PHASE_MODEL] = "accept",
+               [CPHASE_COPY - PSIM_PHASE_MODEL] = "copy",
                [CPHASE_END - PSIM_PHASE_MODEL] = NULL},
     .thermo = {"pair_collisions", "wall_collisions", NULL},
     .counters = {[CC_PAIR_TESTS] = "pair_tests",
@@ -428,6 +500,7 @@ const psim_model psim_model_ccd = {
     .restart_save = restart_save,
     .step_summary = step_summary,
     .shares = 1,
-    .no_gpu = "is not yet on the GPU",
+    .gpu = 1,
+    .sync = gpu_sync,
     .destroy = destroy,
 };

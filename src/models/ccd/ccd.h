@@ -31,20 +31,14 @@
 
 #include "../../engine/engine.h"
 #include "../../engine/nearest.h"
+#include "cand.h"
+#include "gpu.h"
 
-enum { CPHASE_DETECT = PSIM_PHASE_MODEL, CPHASE_ORDER, CPHASE_ACCEPT, CPHASE_END };
+enum { CPHASE_DETECT = PSIM_PHASE_MODEL, CPHASE_ORDER, CPHASE_ACCEPT, CPHASE_COPY, CPHASE_END };
 enum { CC_PAIR_TESTS, CC_PAIR_CANDIDATES, CC_WALL_CANDIDATES, CC_PAIR_COLLISIONS,
        CC_WALL_COLLISIONS, CC_ACCEPT_ROUNDS, CC_TASKS, CC_REGRIDS, CC_END };
 /* Stages left out where the scene cannot use them (ccd.c). */
 enum { CS_PAIRS, CS_WALLS, CS_MOVE, CS_GRAPH };
-
-/* A candidate: disks by id, p < q, q = -1 for the wall; sp, sq their
- * places in the store this step. */
-typedef struct ccand {
-    double t;
-    int32_t p, q;
-    uint32_t sp, sq;
-} ccand;
 
 typedef struct clist {
     ccand *c;
@@ -129,18 +123,22 @@ typedef struct cmodel {
     /* over MPI ranks (every rank holds every disk, in the same order):
      * this rank, and how many; each detects its share, all accept */
     int rank, ranks;
+    /* --device gpu: the state on the device (gpu.h), and where its copies
+     * are timed */
+    cgpu *gpu;
+    psim_stats *gpu_stats;
 } cmodel;
 
-/* Slack of the swept boxes, the cells and the skips against round-off:
- * the rules' arithmetic can make a candidate of a pair whose exact closest
- * approach is a little over 2r (by about sqrt(eps) of the distances
- * involved). */
+/* Slack of the swept boxes, the cells and the skips (cand.h). */
 static inline double ccd_margin(const cmodel *m, double vmax)
 {
-    return 1e-6 * (m->L + 2 * vmax + m->r);
+    return ccd_margin_of(m->L, m->r, vmax);
 }
 
 void ccd_detect(psim_sim *e, cmodel *m);
+/* On the GPU: the last step's candidates and accepted ones into all and
+ * acc (for --check): 0, or -1 with err set. */
+int ccd_gpu_lists(cmodel *m, psim_error *err);
 void ccd_detect_walls(psim_sim *e, cmodel *m);
 int ccd_order(psim_sim *e, cmodel *m);
 void ccd_gather(psim_sim *e, cmodel *m, int fail);

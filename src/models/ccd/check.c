@@ -110,6 +110,8 @@ int ccd_check(psim_sim *e, void *p, const psim_snapshot *before,
 {
     const cmodel *m = p;
     const long n = after->n, step = e->step;
+    if (m->gpu && ccd_gpu_lists(p, err))   /* (the lists are on the device) */
+        return -1;
     const double tol = 1e-9 * fmax(1.0, m->L);
     for (long i = 0; i < n; i++)
         if (!(after->x[i] >= m->r - tol && after->x[i] <= m->L - m->r + tol &&

@@ -3,10 +3,13 @@
  * precision, no fused multiply-add (-ffp-contract=off), so that results
  * match their program bit for bit.  An algebraically equal formula is not
  * the same bits: change nothing here without re-running
- * tests/e2e/ccd_reference.sh.  Shared by the model and its --check. */
+ * tests/e2e/ccd_reference.sh.  Shared by the model, its --check and its
+ * GPU path (PSIM_HD: the kernels run these very functions). */
 #ifndef PSIM_CCD_RULES_H
 #define PSIM_CCD_RULES_H
 #include <math.h>
+
+#include "../../engine/hd.h"
 
 /* The authors' tolerance at the walls. */
 #define CCD_EPS 1e-14
@@ -15,7 +18,7 @@
  * step: dt = 1): with m = r + 1e-14, if vx != 0 and x + vx dt < m,
  * t_x = (x - r) / -vx; else if x + vx dt > L - m, t_x = (L - r - x) / vx;
  * likewise y.  Returns 1 and the smaller of t_x, t_y when one exists. */
-static inline int ccd_wall_time(double x, double y, double vx, double vy, double dt,
+PSIM_HD static inline int ccd_wall_time(double x, double y, double vx, double vy, double dt,
                                 double L, double r, double *t)
 {
     const double m = r + CCD_EPS;
@@ -47,7 +50,7 @@ static inline int ccd_wall_time(double x, double y, double vx, double vy, double
  * C = |dp|^2 - 4r^2, D = B^2 - 4AC; a candidate when D > 0 and
  * t = (-B - sqrt(D)) / 2 / A lies in [0, 1].  (Pairs that already overlap
  * have a negative first root and pass through each other.) */
-static inline int ccd_pair_time(double xp, double yp, double vxp, double vyp, double xq,
+PSIM_HD static inline int ccd_pair_time(double xp, double yp, double vxp, double vyp, double xq,
                                 double yq, double vxq, double vyq, double r, double *t)
 {
     double dx = xq - xp, dy = yq - yp, dvx = vxq - vxp, dvy = vyq - vyp;
@@ -64,7 +67,7 @@ static inline int ccd_pair_time(double xp, double yp, double vxp, double vyp, do
 /* Reverse each velocity component whose position is within 1e-14 of its
  * walls' contact position (r or L - r): the authors' test is one-sided,
  * x - r <= 1e-14 or L - r - x <= 1e-14 (a corner reverses both). */
-static inline void ccd_wall_reflect(double x, double y, double *vx, double *vy, double L,
+PSIM_HD static inline void ccd_wall_reflect(double x, double y, double *vx, double *vy, double L,
                                     double r)
 {
     if (x - r <= CCD_EPS || L - r - x <= CCD_EPS)
@@ -75,7 +78,7 @@ static inline void ccd_wall_reflect(double x, double y, double *vx, double *vy, 
 
 /* Exchange the normal velocity components of two touching disks, through
  * the normal and tangent unit vectors along the line of centres. */
-static inline void ccd_pair_bounce(double xp, double yp, double *vxp, double *vyp,
+PSIM_HD static inline void ccd_pair_bounce(double xp, double yp, double *vxp, double *vyp,
                                    double xq, double yq, double *vxq, double *vyq)
 {
     double dx = xq - xp, dy = yq - yp;
@@ -92,7 +95,7 @@ static inline void ccd_pair_bounce(double xp, double yp, double *vxp, double *vy
 /* The rest of the step after a collision: move for dt, but stop where the
  * disk first touches a wall (found as a wall candidate over dt), without
  * reflecting: it reflects next step. */
-static inline void ccd_rest(double *x, double *y, double vx, double vy, double dt,
+PSIM_HD static inline void ccd_rest(double *x, double *y, double vx, double vy, double dt,
                             double L, double r)
 {
     double tw, tt = dt;

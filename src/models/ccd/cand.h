@@ -1,0 +1,56 @@
+/* The ccd model's candidates and their total order, and the reach of a
+ * step's cells (plain C; PSIM_HD: the GPU path's kernels use the same).
+ *
+ * The order of the authors' program: by time; at equal times the lower
+ * disk P first; for the same P the wall first, then the lower Q.  As two
+ * unsigned keys, compared as numbers (the GPU path's radix sorts, a
+ * stable sort by the id key, then by the time key): the time key orders
+ * the times as numbers, -0 as +0; the id key orders (P, Q + 1). */
+#ifndef PSIM_CCD_CAND_H
+#define PSIM_CCD_CAND_H
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+
+#include "../../engine/hd.h"
+
+/* A candidate: disks by id, p < q, q = -1 for the wall; sp, sq their
+ * places in the store this step. */
+typedef struct ccand {
+    double t;
+    int32_t p, q;
+    uint32_t sp, sq;
+} ccand;
+
+PSIM_HD static inline uint64_t ccd_time_key(double t)
+{
+    uint64_t u;
+    t = t == 0 ? 0.0 : t;   /* -0 as +0: they are equal times */
+    memcpy(&u, &t, sizeof u);
+    return (u >> 63) ? ~u : u | (UINT64_C(1) << 63);
+}
+
+PSIM_HD static inline uint64_t ccd_id_key(int32_t p, int32_t q)
+{
+    return ((uint64_t)(uint32_t)p << 32) | (uint32_t)(q + 1);
+}
+
+/* Slack of the swept boxes, the cells and the skips against round-off:
+ * the rules' arithmetic can make a candidate of a pair whose exact closest
+ * approach is a little over 2r (by about sqrt(eps) of the distances
+ * involved). */
+PSIM_HD static inline double ccd_margin_of(double L, double r, double vmax)
+{
+    return 1e-6 * (L + 2 * vmax + r);
+}
+
+/* How far apart, on each axis, two disks that can meet within a step may
+ * be at its start (vmax: the largest |vx| + |vy|): cells at least this
+ * wide hold every pair that can be a candidate in the same or adjacent
+ * cells. */
+PSIM_HD static inline double ccd_reach(double L, double r, double vmax)
+{
+    return 2 * r + 2 * vmax + 2 * ccd_margin_of(L, r, vmax);
+}
+
+#endif
