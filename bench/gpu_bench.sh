@@ -7,7 +7,9 @@
 # their share of the GPU run's steps and copies together.
 #   force  CS267's scenes of n = 1e5, 1e6, 1e7 particles, 1000 steps;
 #   ccd    the CS3210 AY2019/20 generator's scenes (its density: a box of
-#          632.46 sqrt(N), r = 1) of 1e4, 1e5, 1e6 disks, 100 steps.
+#          632.46 sqrt(N), r = 1) of 1e4, 1e5, 1e6 disks, 100 steps at 1e4
+#          and 1e4 / N as many above (at least 1): disks cross up to a
+#          third of the box a step, so a step's pairs to test grow as N^2.
 #
 # usage: bench/gpu_bench.sh [--model M] [--steps S] [--sizes "N ..."]
 #                           [--device D] [--threads P] [BUILD_DIR]
@@ -49,6 +51,11 @@ psim="$build/psim"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
+# ccd_steps N: the steps of a ccd run of N disks
+ccd_steps() {
+    awk -v n="$1" -v s="$steps" 'BEGIN { k = int(s * 10000 / n); print (n <= 10000 ? s : (k < 1 ? 1 : k)) }'
+}
+
 # run N WHERE ARGS...: one run's stats into $tmp/N.WHERE.json
 run() {
     local n=$1 where=$2
@@ -57,7 +64,7 @@ run() {
         "$psim" -q --model force -n "$n" --seed 1 --steps "$steps" "$@" \
             --stats "$tmp/$n.$where.json"
     else
-        awk -v n="$n" -v s="$steps" 'BEGIN { printf "%d\n%.2f\n1\n%d\nperf\n", n, 632.46 * sqrt(n), s }' \
+        awk -v n="$n" -v s="$(ccd_steps "$n")" 'BEGIN { printf "%d\n%.2f\n1\n%d\nperf\n", n, 632.46 * sqrt(n), s }' \
             >"$tmp/$n.in"
         "$psim" -q --model ccd "$@" --stats "$tmp/$n.$where.json" "$tmp/$n.in" >/dev/null
     fi
@@ -65,20 +72,21 @@ run() {
 
 scenes="CS267 scenes"
 [ "$model" = ccd ] && scenes="the CS3210 AY2019/20 generator's scenes"
-echo "$model model, $steps steps, $scenes; GPU --device $device, CPU --threads $threads"
+echo "$model model, $scenes; GPU --device $device, CPU --threads $threads"
 echo
-echo "| n | GPU s | CPU s | CPU / GPU | GPU ms/step | copies (share of steps + copies) |"
-echo "|---|---|---|---|---|---|"
+echo "| n | steps | GPU s | CPU s | CPU / GPU | GPU ms/step | copies (share of steps + copies) |"
+echo "|---|---|---|---|---|---|---|"
 for n in $sizes; do
     run "$n" gpu --device "$device"
     run "$n" cpu --threads "$threads"
-    python3 - "$n" "$steps" "$tmp/$n.gpu.json" "$tmp/$n.cpu.json" <<'PY'
+    python3 - "$n" "$tmp/$n.gpu.json" "$tmp/$n.cpu.json" <<'PY'
 import json, sys
-n, steps = int(sys.argv[1]), int(sys.argv[2])
-g, c = (json.load(open(p)) for p in sys.argv[3:5])
+n = int(sys.argv[1])
+g, c = (json.load(open(p)) for p in sys.argv[2:4])
+steps = g["steps"]
 tg, tc = g["time_s"], c["time_s"]
 copy = g["phases_s"].get("copy", 0.0)
-print(f"| {n} | {tg:.3f} | {tc:.3f} | {tc / tg:.1f} | {1e3 * tg / steps:.3f} "
+print(f"| {n} | {steps} | {tg:.3f} | {tc:.3f} | {tc / tg:.1f} | {1e3 * tg / steps:.3f} "
       f"| {copy:.3f} s ({100 * copy / (tg + copy):.1f}%) |")
 PY
 done

@@ -88,7 +88,8 @@ done
 for n in 10000 100000 1000000; do
     s=$((steps / 5))
     ((n >= 100000)) && s=$((steps / 20))
-    ((n >= 1000000)) && s=$((steps / 100))
+    ((n >= 1000000)) && s=$((steps / 500))
+    ((s < 1)) && s=1
     awk -v n="$n" -v s="$s" 'BEGIN { printf "%d\n%.2f\n1\n%d\nperf\n", n, 632.46 * sqrt(n), s }' >"$tmp/ccd.in"
     psim=("$build/psim" -q --model ccd)
     if "${psim[@]}" --threads "$jobs" -o "$tmp/cpu.out" --final "$tmp/cpu.fin" "$tmp/ccd.in" 2>>"$out/same_bytes.txt" &&

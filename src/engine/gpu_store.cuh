@@ -3,10 +3,11 @@
  *
  * The particles as a structure of arrays like the store's, which stay on
  * the device between steps:
- *   sort      each particle's cell key (gpu_grid.h), a radix sort of
- *             (key, place) pairs (CUB DeviceRadixSort, stable), the
- *             arrays gathered into key order, and each cell's range of
- *             places: the engine's sort by cell key, on the device;
+ *   sort      each particle's cell key (gpu_grid.h), or a model's own
+ *             key, a radix sort of (key, place) pairs (CUB
+ *             DeviceRadixSort, stable), the arrays gathered into key
+ *             order, and each key's range of places: the engine's sort
+ *             by cell key, on the device;
  *   download  the arrays into the host's store, in the device's order
  *             (the store's ids say where each particle is), only when the
  *             engine reads the state.
@@ -39,7 +40,7 @@ typedef struct psim_dstore {
 } psim_dstore;
 
 /* A CUDA call's error into err, naming the call: -1; else 0. */
-static int psim_cuda_failed(cudaError_t rc, const char *what, psim_error *err)
+static inline int psim_cuda_failed(cudaError_t rc, const char *what, psim_error *err)
 {
     if (rc == cudaSuccess)
         return 0;
@@ -48,7 +49,7 @@ static int psim_cuda_failed(cudaError_t rc, const char *what, psim_error *err)
 }
 
 /* Device memory of bytes (at least 1) into *p. */
-static int psim_dalloc(void *p, size_t bytes, psim_error *err)
+static inline int psim_dalloc(void *p, size_t bytes, psim_error *err)
 {
     return psim_cuda_failed(cudaMalloc((void **)p, bytes ? bytes : 1), "device memory", err);
 }
@@ -110,7 +111,7 @@ __device__ static inline void psim_drow_run(const uint32_t *cstart, const uint32
     }
 }
 
-static void psim_dstore_free(psim_dstore *d)
+static inline void psim_dstore_free(psim_dstore *d)
 {
     void *all[] = {d->x,   d->y,    d->vx,   d->vy,     d->x2,     d->y2,   d->vx2,
                    d->vy2, d->id,   d->id2,  d->key,    d->key2,   d->place, d->place2,
@@ -124,7 +125,7 @@ static void psim_dstore_free(psim_dstore *d)
 /* The store's n particles onto the device (device chosen already), with
  * cells for grids of up to cells_side a side: 0, or -1 with err set (and
  * nothing held). */
-static int psim_dstore_create(psim_dstore *d, const psim_store *st, int32_t cells_side,
+static inline int psim_dstore_create(psim_dstore *d, const psim_store *st, int32_t cells_side,
                               psim_error *err)
 {
     memset(d, 0, sizeof *d);
@@ -156,34 +157,41 @@ static int psim_dstore_create(psim_dstore *d, const psim_store *st, int32_t cell
     return rc ? -1 : 0;
 }
 
-template <typename T> static void psim_dswap(T **a, T **b)
+template <typename T> static inline void psim_dswap(T **a, T **b)
 {
     T *t = *a;
     *a = *b, *b = t;
 }
 
-/* The sort by cell key on grid g (side at most cells_side), enqueued:
- * keys, the radix sort, the gather, the cells' ranges.  Afterwards key2
- * holds the sorted keys, place2 where each particle came from. */
-static void psim_dstore_sort(psim_dstore *d, const psim_gpu_grid &g, unsigned blocks)
+/* The particles into the order of their keys, enqueued: key[k] the key
+ * of the particle at place[k] (any places, each once), keys below
+ * 2^key_bits and cells of them; a stable radix sort of (key, place), the
+ * arrays gathered into that order, each key's range of places.
+ * Afterwards key2 holds the sorted keys. */
+static inline void psim_dstore_sort_keys(psim_dstore *d, size_t cells, int key_bits, unsigned blocks)
 {
     const unsigned th = PSIM_GPU_THREADS;
-    size_t cells = (size_t)g.side * (size_t)g.side * sizeof(uint32_t);
-    psim_dk_keys<<<blocks, th>>>(g, d->x, d->y, d->key, d->place, d->n);
     cub::DeviceRadixSort::SortPairs(d->tmp, d->tmp_bytes, d->key, d->key2, d->place,
-                                    d->place2, (int)d->n, 0, g.key_bits);
+                                    d->place2, (int)d->n, 0, key_bits);
     psim_dk_gather<<<blocks, th>>>(d->place2, d->n, d->x, d->y, d->vx, d->vy, d->id, d->x2,
                                    d->y2, d->vx2, d->vy2, d->id2);
     psim_dswap(&d->x, &d->x2), psim_dswap(&d->y, &d->y2);
     psim_dswap(&d->vx, &d->vx2), psim_dswap(&d->vy, &d->vy2), psim_dswap(&d->id, &d->id2);
-    cudaMemsetAsync(d->cstart, 0, cells);
-    cudaMemsetAsync(d->cend, 0, cells);
+    cudaMemsetAsync(d->cstart, 0, cells * sizeof(uint32_t));
+    cudaMemsetAsync(d->cend, 0, cells * sizeof(uint32_t));
     psim_dk_ranges<<<blocks, th>>>(d->key2, d->n, d->cstart, d->cend);
+}
+
+/* The sort by cell key on grid g (side at most cells_side), enqueued. */
+static inline void psim_dstore_sort(psim_dstore *d, const psim_gpu_grid &g, unsigned blocks)
+{
+    psim_dk_keys<<<blocks, PSIM_GPU_THREADS>>>(g, d->x, d->y, d->key, d->place, d->n);
+    psim_dstore_sort_keys(d, (size_t)g.side * (size_t)g.side, g.key_bits, blocks);
 }
 
 /* The device's arrays into the store (waits for the device): a CUDA
  * error, or cudaSuccess. */
-static cudaError_t psim_dstore_download(const psim_dstore *d, psim_store *st)
+static inline cudaError_t psim_dstore_download(const psim_dstore *d, psim_store *st)
 {
     size_t dbl = st->n * sizeof(double);
     cudaError_t rc = cudaMemcpy(st->x, d->x, dbl, cudaMemcpyDeviceToHost);

@@ -189,7 +189,7 @@ static void test_ccd_keys(void)
 
 /* Every pair the rules make a candidate of (within a step, speeds up to
  * vmax = |vx| + |vy|) is in adjacent cells of a grid at least ccd_reach
- * wide. */
+ * wide, and their swept boxes (ccd_box) overlap. */
 static void test_ccd_reach(double L, double r, double vmax)
 {
     psim_gpu_grid g;
@@ -211,6 +211,11 @@ static void test_ccd_reach(double L, double r, double vmax)
             !ccd_pair_time(px, py, v[0], v[1], qx, qy, v[2], v[3], r, &t))
             continue;
         found++;
+        double bp[4], bq[4], grow = r + ccd_margin_of(L, r, vmax);
+        ccd_box(px, py, v[0], v[1], grow, bp);
+        ccd_box(qx, qy, v[2], v[3], grow, bq);
+        CHECK_MSG(bp[0] <= bq[1] && bq[0] <= bp[1] && bp[2] <= bq[3] && bq[2] <= bp[3],
+                  "L %g r %g vmax %g: a candidate whose boxes do not overlap", L, r, vmax);
         int32_t ex = psim_gpu_cell(&g, px) - psim_gpu_cell(&g, qx);
         int32_t ey = psim_gpu_cell(&g, py) - psim_gpu_cell(&g, qy);
         CHECK_MSG(ex >= -1 && ex <= 1 && ey >= -1 && ey <= 1,
@@ -230,5 +235,6 @@ int main(void)
     test_ccd_reach(1000.0, 1.0, 2.0);
     test_ccd_reach(20000.0, 0.5, 10.0);
     test_ccd_reach(50.0, 2.0, 0.1);
+    test_ccd_reach(1000.0, 10.0, 300.0);   /* the course generator's: a third of the box a step */
     return check_done();
 }

@@ -53,4 +53,16 @@ PSIM_HD static inline double ccd_reach(double L, double r, double vmax)
     return 2 * r + 2 * vmax + 2 * ccd_margin_of(L, r, vmax);
 }
 
+/* A disk's swept box over the step, grown by g = r + the margin: x0, x1,
+ * y0, y1.  The boxes of a pair the rules make a candidate of overlap. */
+PSIM_HD static inline void ccd_box(double x, double y, double vx, double vy, double g,
+                                   double b[4])
+{
+    double x1 = x + vx, y1 = y + vy;
+    b[0] = (x < x1 ? x : x1) - g;
+    b[1] = (x < x1 ? x1 : x) + g;
+    b[2] = (y < y1 ? y : y1) - g;
+    b[3] = (y < y1 ? y1 : y) + g;
+}
+
 #endif

@@ -2,13 +2,18 @@
  *
  * The state lives on the device between steps (the engine's device store,
  * gpu_store.cuh), with each disk's collision counts by id.  A step:
- *   detect  the largest |vx| + |vy| (a block reduction), the cells at
- *           least ccd_reach wide (re-planned only when they are too
- *           narrow or far too wide, as the CPU path's grid), the sort by
- *           cell key; then a thread a disk: its wall candidate and its
- *           pair candidates with every disk of higher id in the cells
- *           around its own, by rules.h's functions, appended to one list;
- *           where the list overflows it grows and the search runs again;
+ *   detect  the largest |vx| + |vy| (a block reduction); bands along y
+ *           at least ccd_reach high (re-planned only when too low or far
+ *           too high, as the CPU path's cells), so that a pair that can
+ *           meet is in the same or adjacent bands; the disks sorted by
+ *           band, and within a band by the left edge of their swept box
+ *           (two stable radix sorts), and the boxes; then a thread a
+ *           disk: its wall candidate, and a sweep along x of its own band
+ *           after it and of the band above, the rules (rules.h's
+ *           functions) run on each pair whose boxes overlap, appended to
+ *           one list; where the list overflows it grows and the search
+ *           runs again.  On the course generator's scenes a disk crosses
+ *           up to a third of the box a step: one band, the sweep alone;
  *   order   a stable radix sort of the candidates' places by their id
  *           key, then by their time key (cand.h): the total order;
  *   accept  rounds: each disk's first live candidate (atomic minimum of
@@ -52,8 +57,11 @@ struct cgpu {
     double L, r;
     int device;
     psim_dstore d;
-    psim_gpu_grid grid;
-    double grid_reach;          /* the reach the grid was planned for (0: none) */
+    psim_gpu_grid bands;        /* side: the bands along y */
+    int band_bits;              /* the bits of the largest band */
+    double bands_reach;         /* the reach they were planned for (0: none) */
+    double grow;                /* r and the margin: the boxes' growth this step */
+    unsigned long long *wbits;  /* the widest box, as bits */
     int64_t *pcoll, *wcoll;     /* by id */
     ccand *cand, *cand2;        /* found; in order */
     uint64_t *k, *k2;           /* sort keys */
@@ -89,6 +97,53 @@ __global__ static void k_vmax(const double *vx, const double *vy, uint32_t n, cc
         atomicMax(&c->vmax, (unsigned long long)__double_as_longlong(top));
 }
 
+/* The left edge of each disk's swept box (grown by g) as an ordered key,
+ * and its place. */
+__global__ static void k_edges(const double *x, const double *vx, uint32_t n, double g,
+                               uint64_t *key, uint32_t *place)
+{
+    uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= n)
+        return;
+    double b[4];
+    ccd_box(x[i], 0, vx[i], 0, g, b);
+    key[i] = ccd_time_key(b[0]);   /* (the ordered bits of a double) */
+    place[i] = i;
+}
+
+/* Each disk's band, in the order of the edges, with its place. */
+__global__ static void k_bands(const uint32_t *order, const double *y, uint32_t n,
+                               psim_gpu_grid bands, uint32_t *key, uint32_t *place)
+{
+    uint32_t k = blockIdx.x * blockDim.x + threadIdx.x;
+    if (k >= n)
+        return;
+    uint32_t i = order[k];
+    key[k] = (uint32_t)psim_gpu_cell(&bands, y[i]);
+    place[k] = i;
+}
+
+/* The swept boxes of the sorted disks, and the widest (as bits). */
+__global__ static void k_boxes(const double *x, const double *y, const double *vx,
+                               const double *vy, uint32_t n, double g, double *bx0,
+                               double *bx1, double *by0, double *by1,
+                               unsigned long long *wmax)
+{
+    typedef cub::BlockReduce<double, PSIM_GPU_THREADS> reduce;
+    __shared__ typename reduce::TempStorage shared;
+    uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+    double w = 0;
+    if (i < n) {
+        double b[4];
+        ccd_box(x[i], y[i], vx[i], vy[i], g, b);
+        bx0[i] = b[0], bx1[i] = b[1], by0[i] = b[2], by1[i] = b[3];
+        w = b[1] - b[0] > 0 ? b[1] - b[0] : 0;
+    }
+    double top = reduce(shared).Reduce(w, dmax());
+    if (threadIdx.x == 0 && top > 0)
+        atomicMax(wmax, (unsigned long long)__double_as_longlong(top));
+}
+
 /* Candidate k of the list, where there is room. */
 __device__ static inline void put(ccand *cand, size_t cap, ccounts *c, ccand v)
 {
@@ -97,9 +152,43 @@ __device__ static inline void put(ccand *cand, size_t cap, ccounts *c, ccand v)
         cand[k] = v;
 }
 
-/* Disk i's wall candidate and its pair candidates with the disks of
- * higher id around it. */
-__global__ static void k_detect(psim_gpu_grid g, const uint32_t *cstart, const uint32_t *cend,
+/* The swept boxes, in the sorted order. */
+struct boxes {
+    const double *x0, *x1, *y0, *y1;
+};
+
+/* The rules on the pair of places i and j, the lower id as P. */
+__device__ static inline int pair_test(uint32_t i, uint32_t j, const double *x, const double *y,
+                                       const double *vx, const double *vy, const int32_t *id,
+                                       double r, ccand *v)
+{
+    if (id[i] > id[j]) {
+        uint32_t t = i;
+        i = j, j = t;
+    }
+    v->p = id[i], v->q = id[j], v->sp = i, v->sq = j;
+    return ccd_pair_time(x[i], y[i], vx[i], vy[i], x[j], y[j], vx[j], vy[j], r, &v->t);
+}
+
+/* The first place in [b, e) whose box's left edge is at least x. */
+__device__ static inline uint32_t lower(const double *x0, uint32_t b, uint32_t e, double x)
+{
+    while (b < e) {
+        uint32_t mid = b + (e - b) / 2;
+        if (x0[mid] < x)
+            b = mid + 1;
+        else
+            e = mid;
+    }
+    return b;
+}
+
+/* Disk i's wall candidate, and its pair candidates: with the disks after
+ * it in its band whose boxes overlap its own (their left edges from its
+ * left edge to its right), and with those of the band above (their left
+ * edges from its own less the widest box). */
+__global__ static void k_detect(uint32_t nbands, const uint32_t *band, const uint32_t *cstart,
+                                const uint32_t *cend, boxes B, const unsigned long long *wbits,
                                 const double *x, const double *y, const double *vx,
                                 const double *vy, const int32_t *id, uint32_t n, double L,
                                 double r, ccand *cand, size_t cap, ccounts *c)
@@ -109,27 +198,30 @@ __global__ static void k_detect(psim_gpu_grid g, const uint32_t *cstart, const u
     uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
     unsigned long long tests = 0, walls = 0;
     if (i < n) {
-        const double xi = x[i], yi = y[i], ui = vx[i], wi = vy[i];
-        const int32_t me = id[i];
         ccand v;
-        if (ccd_wall_time(xi, yi, ui, wi, 1.0, L, r, &v.t)) {
-            v.p = me, v.q = -1, v.sp = i, v.sq = UINT32_MAX;
+        if (ccd_wall_time(x[i], y[i], vx[i], vy[i], 1.0, L, r, &v.t)) {
+            v.p = id[i], v.q = -1, v.sp = i, v.sq = UINT32_MAX;
             put(cand, cap, c, v);
             walls++;
         }
-        psim_gpu_range a = psim_gpu_around(&g, psim_gpu_cell(&g, xi), psim_gpu_cell(&g, yi));
-        for (int32_t row = a.y0; row <= a.y1; row++) {
-            uint32_t b, e;
-            psim_drow_run(cstart, cend, g, a, row, &b, &e);
-            for (uint32_t j = b; j < e; j++) {
-                if (id[j] <= me)
-                    continue;
+        const double ax0 = B.x0[i], ax1 = B.x1[i], ay0 = B.y0[i], ay1 = B.y1[i];
+        const uint32_t b = band[i];
+        for (uint32_t j = i + 1, e = cend[b]; j < e && B.x0[j] <= ax1; j++)
+            if (B.y0[j] <= ay1 && ay0 <= B.y1[j]) {
                 tests++;
-                if (ccd_pair_time(xi, yi, ui, wi, x[j], y[j], vx[j], vy[j], r, &v.t)) {
-                    v.p = me, v.q = id[j], v.sp = i, v.sq = j;
+                if (pair_test(i, j, x, y, vx, vy, id, r, &v))
                     put(cand, cap, c, v);
-                }
             }
+        if (b + 1 < nbands && cstart[b + 1] < cend[b + 1]) {
+            const double wmax = __longlong_as_double((long long)*wbits);
+            const uint32_t e = cend[b + 1];
+            for (uint32_t j = lower(B.x0, cstart[b + 1], e, ax0 - wmax * (1 + 1e-9));
+                 j < e && B.x0[j] <= ax1; j++)
+                if (B.x1[j] >= ax0 && B.y0[j] <= ay1 && ay0 <= B.y1[j]) {
+                    tests++;
+                    if (pair_test(i, j, x, y, vx, vy, id, r, &v))
+                        put(cand, cap, c, v);
+                }
         }
     }
     unsigned long long t = reduce(shared).Sum(tests);
@@ -318,7 +410,8 @@ extern "C" cgpu *cgpu_create(psim_store *st, double L, double r, const int64_t *
              psim_dstore_create(&g->d, st, psim_gpu_grid_most((long)n), err) ||
              psim_dalloc(&g->pcoll, counts, err) || psim_dalloc(&g->wcoll, counts, err) ||
              psim_dalloc(&g->busy, n, err) || psim_dalloc(&g->best, n * sizeof(uint32_t), err) ||
-             psim_dalloc(&g->cnt, sizeof(ccounts), err) || cands_room(g, n + 1024, err);
+             psim_dalloc(&g->cnt, sizeof(ccounts), err) ||
+             psim_dalloc(&g->wbits, sizeof *g->wbits, err) || cands_room(g, n + 1024, err);
     const char *what = "copy to the device";
     rc = rc ||
          psim_cuda_failed(cudaMemcpy(g->pcoll, pcoll, counts, cudaMemcpyHostToDevice), what, err) ||
@@ -338,36 +431,58 @@ static cudaError_t read_counts(const cgpu *g, ccounts *h)
     return cudaMemcpy(h, g->cnt, sizeof *h, cudaMemcpyDeviceToHost);
 }
 
-/* The cells for this step's speeds (as ccd.c's fit_grid): 1 when they
- * were planned again, 0, or -1 with err set. */
-static int fit_grid(cgpu *g, double vmax, psim_error *err)
+/* The bands for this step's speeds (as ccd.c's fit_grid plans cells): 1
+ * when they were planned again, 0, or -1 with err set. */
+static int fit_bands(cgpu *g, double vmax, psim_error *err)
 {
     double reach = ccd_reach(g->L, g->r, vmax);
+    g->grow = g->r + ccd_margin_of(g->L, g->r, vmax);
     int32_t most = g->d.cells_side;
-    if (g->grid_reach > 0 && reach <= g->grid_reach &&
-        !(reach * 3 < g->grid_reach && g->grid.side < most))
+    if (g->bands_reach > 0 && reach <= g->bands_reach &&
+        !(reach * 3 < g->bands_reach && g->bands.side < most))
         return 0;
     double want = fmin(reach * 1.1, g->L * 2);
     want = want > reach ? want : reach;
-    if (psim_gpu_grid_plan(g->L, want, (long)g->d.n, &g->grid)) {
-        psim_error_set(err, "--device gpu: no cells for a reach of %g in a box of %g", want,
+    if (psim_gpu_grid_plan(g->L, want, (long)g->d.n, &g->bands)) {
+        psim_error_set(err, "--device gpu: no bands for a reach of %g in a box of %g", want,
                        g->L);
         return -1;
     }
-    g->grid_reach = want;
+    g->bands_reach = want;
+    g->band_bits = 1;
+    while (g->band_bits < 32 && ((uint32_t)(g->bands.side - 1) >> g->band_bits) != 0)
+        g->band_bits++;
     return 1;
+}
+
+/* The disks sorted by band, and within a band by their boxes' left
+ * edges (a stable sort by edge, then one by band), and their boxes
+ * (into the store's free gather arrays) and the widest, enqueued. */
+static boxes sort_disks(cgpu *g, unsigned blocks)
+{
+    psim_dstore *d = &g->d;
+    const unsigned th = PSIM_GPU_THREADS;
+    k_edges<<<blocks, th>>>(d->x, d->vx, d->n, g->grow, g->k, g->ix);
+    cub::DeviceRadixSort::SortPairs(g->tmp, g->tmp_bytes, g->k, g->k2, g->ix, g->ix2,
+                                    (int)d->n, 0, 64);
+    k_bands<<<blocks, th>>>(g->ix2, d->y, d->n, g->bands, d->key, d->place);
+    psim_dstore_sort_keys(d, (size_t)g->bands.side, g->band_bits, blocks);
+    cudaMemsetAsync(g->wbits, 0, sizeof *g->wbits);
+    k_boxes<<<blocks, th>>>(d->x, d->y, d->vx, d->vy, d->n, g->grow, d->x2, d->y2, d->vx2,
+                            d->vy2, g->wbits);
+    return boxes{d->x2, d->y2, d->vx2, d->vy2};
 }
 
 /* The candidates of this step, into cand (the room grown and the search
  * run again where they did not fit): their count, or -1 with err set. */
-static long detect(cgpu *g, cgpu_step_out *o, psim_error *err)
+static long detect(cgpu *g, const boxes &B, cgpu_step_out *o, psim_error *err)
 {
     psim_dstore *d = &g->d;
     for (;;) {
         cudaMemsetAsync(g->cnt, 0, sizeof(ccounts));
-        k_detect<<<blocks_of(d->n), PSIM_GPU_THREADS>>>(g->grid, d->cstart, d->cend, d->x, d->y,
-                                                       d->vx, d->vy, d->id, d->n, g->L, g->r,
-                                                       g->cand, g->cap, g->cnt);
+        k_detect<<<blocks_of(d->n), PSIM_GPU_THREADS>>>(
+            (uint32_t)g->bands.side, d->key2, d->cstart, d->cend, B, g->wbits, d->x, d->y, d->vx,
+            d->vy, d->id, d->n, g->L, g->r, g->cand, g->cap, g->cnt);
         ccounts h;
         if (psim_cuda_failed(read_counts(g, &h), "detect", err))
             return -1;
@@ -431,14 +546,14 @@ extern "C" int cgpu_step(cgpu *g, cgpu_step_out *o, psim_error *err)
         return -1;
     double vmax;
     memcpy(&vmax, &h.vmax, sizeof vmax);
-    int planned = fit_grid(g, vmax, err);
+    int planned = fit_bands(g, vmax, err);
     if (planned < 0)
         return -1;
     o->regrids = (uint64_t)planned;
     o->detect += lap(&t0);
-    psim_dstore_sort(d, g->grid, nb);
+    boxes B = sort_disks(g, nb);
     o->sort += lap(&t0);
-    long nc = detect(g, o, err);
+    long nc = detect(g, B, o, err);
     if (nc < 0)
         return -1;
     o->detect += lap(&t0);
@@ -513,7 +628,7 @@ extern "C" void cgpu_destroy(cgpu *g)
         return;
     psim_dstore_free(&g->d);
     free_cands(g);
-    void *all[] = {g->pcoll, g->wcoll, g->busy, g->best, g->cnt};
+    void *all[] = {g->pcoll, g->wcoll, g->busy, g->best, g->cnt, g->wbits};
     for (void *p : all)
         if (p)
             cudaFree(p);
