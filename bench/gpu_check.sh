@@ -71,19 +71,24 @@ steps=1000
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 : >"$out/same_bytes.txt"
+# compare LABEL THREADS ARGS...: psim ARGS at THREADS threads and on the
+# GPU, -o and --final compared, a line into same_bytes.txt
+compare() {
+    local label=$1 threads=$2 log="$out/same_bytes.txt"
+    shift 2
+    if "$build/psim" -q "$@" --threads "$threads" -o "$tmp/cpu.out" --final "$tmp/cpu.fin" 2>>"$log" &&
+        "$build/psim" -q "$@" --device gpu -o "$tmp/gpu.out" --final "$tmp/gpu.fin" 2>>"$log" &&
+        cmp "$tmp/cpu.out" "$tmp/gpu.out" >>"$log" 2>&1 && cmp "$tmp/cpu.fin" "$tmp/gpu.fin" >>"$log" 2>&1; then
+        echo "$label: -o and --final the same bytes ($(wc -c <"$tmp/cpu.out") and $(wc -c <"$tmp/cpu.fin"))" >>"$log"
+    else
+        echo "$label: DIFFER or failed" >>"$log"
+        failed=1
+    fi
+}
 for n in 10000 100000 1000000; do
     s=$steps
     ((n >= 1000000)) && s=$((steps / 10))
-    psim=("$build/psim" -q -n "$n" -s 1 --steps "$s")
-    if "${psim[@]}" --threads 1 -o "$tmp/cpu.out" --final "$tmp/cpu.fin" 2>>"$out/same_bytes.txt" &&
-        "${psim[@]}" --device gpu -o "$tmp/gpu.out" --final "$tmp/gpu.fin" 2>>"$out/same_bytes.txt" &&
-        cmp "$tmp/cpu.out" "$tmp/gpu.out" >>"$out/same_bytes.txt" 2>&1 &&
-        cmp "$tmp/cpu.fin" "$tmp/gpu.fin" >>"$out/same_bytes.txt" 2>&1; then
-        echo "n $n, $s steps: -o and --final the same bytes ($(wc -c <"$tmp/cpu.out") and $(wc -c <"$tmp/cpu.fin"))" >>"$out/same_bytes.txt"
-    else
-        echo "n $n, $s steps: DIFFER or failed" >>"$out/same_bytes.txt"
-        failed=1
-    fi
+    compare "n $n, $s steps" 1 -n "$n" -s 1 --steps "$s"
 done
 for n in 10000 100000 1000000; do
     s=$((steps / 5))
@@ -91,16 +96,7 @@ for n in 10000 100000 1000000; do
     ((n >= 1000000)) && s=$((steps / 500))
     ((s < 1)) && s=1
     awk -v n="$n" -v s="$s" 'BEGIN { printf "%d\n%.2f\n1\n%d\nperf\n", n, 632.46 * sqrt(n), s }' >"$tmp/ccd.in"
-    psim=("$build/psim" -q --model ccd)
-    if "${psim[@]}" --threads "$jobs" -o "$tmp/cpu.out" --final "$tmp/cpu.fin" "$tmp/ccd.in" 2>>"$out/same_bytes.txt" &&
-        "${psim[@]}" --device gpu -o "$tmp/gpu.out" --final "$tmp/gpu.fin" "$tmp/ccd.in" 2>>"$out/same_bytes.txt" &&
-        cmp "$tmp/cpu.out" "$tmp/gpu.out" >>"$out/same_bytes.txt" 2>&1 &&
-        cmp "$tmp/cpu.fin" "$tmp/gpu.fin" >>"$out/same_bytes.txt" 2>&1; then
-        echo "ccd n $n, $s steps: -o and --final the same bytes ($(wc -c <"$tmp/cpu.out") and $(wc -c <"$tmp/cpu.fin"))" >>"$out/same_bytes.txt"
-    else
-        echo "ccd n $n, $s steps: DIFFER or failed" >>"$out/same_bytes.txt"
-        failed=1
-    fi
+    compare "ccd n $n, $s steps" "$jobs" --model ccd "$tmp/ccd.in"
 done
 if grep -q "DIFFER" "$out/same_bytes.txt"; then
     say "same bytes: FAIL (same_bytes.txt)"

@@ -10,7 +10,7 @@
 # from the CPU.
 set -euo pipefail
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
-source "$(dirname "$0")/../e2e/lib.sh" "$@"
+source "$(dirname "$0")/lib.sh" "$@"
 data=$(cd "$(dirname "$0")/../data/cs3210-2019" && pwd)
 
 for s in cradle cross diagonalLine square triangle; do
@@ -19,18 +19,6 @@ for s in cradle cross diagonalLine square triangle; do
 done
 "$PSIM" -q --device gpu "$data/random-1000-perf.in" >"$tmp/r.out"
 same_file "$tmp/r.out" "$data/random-1000-perf.out" "random-1000-perf on the GPU"
-
-# same NAME ARGS...: the run on the GPU and at one thread, compared
-same()
-{
-    local name=$1
-    shift
-    run_ok "$PSIM" -q "$@" --threads 1 -o "$tmp/$name.cpu.out" --final "$tmp/$name.cpu.fin"
-    run_ok "$PSIM" -q "$@" --device gpu -o "$tmp/$name.gpu.out" --final "$tmp/$name.gpu.fin"
-    [[ -s $tmp/$name.cpu.out && -s $tmp/$name.cpu.fin ]] || fail "$name: no CPU output"
-    cmp "$tmp/$name.cpu.out" "$tmp/$name.gpu.out" || fail "$name: -o differs: psim $* --device gpu"
-    cmp "$tmp/$name.cpu.fin" "$tmp/$name.gpu.fin" || fail "$name: --final differs: psim $* --device gpu"
-}
 
 # the course's generator: N, L (632.46 sqrt(N): its density), r, steps
 course()

@@ -8,19 +8,7 @@
 # phase; gpu:K beyond the devices is refused.
 set -euo pipefail
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
-source "$(dirname "$0")/../e2e/lib.sh" "$@"
-
-# same NAME ARGS...: the run on the GPU and at one thread, compared
-same()
-{
-    local name=$1
-    shift
-    run_ok "$PSIM" -q "$@" --threads 1 -o "$tmp/$name.cpu.out" --final "$tmp/$name.cpu.fin"
-    run_ok "$PSIM" -q "$@" --device gpu -o "$tmp/$name.gpu.out" --final "$tmp/$name.gpu.fin"
-    [[ -s $tmp/$name.cpu.out && -s $tmp/$name.cpu.fin ]] || fail "$name: no CPU output"
-    cmp "$tmp/$name.cpu.out" "$tmp/$name.gpu.out" || fail "$name: -o differs: psim $* --device gpu"
-    cmp "$tmp/$name.cpu.fin" "$tmp/$name.gpu.fin" || fail "$name: --final differs: psim $* --device gpu"
-}
+source "$(dirname "$0")/lib.sh" "$@"
 
 same n1000 -n 1000 -s 1 --steps 1000
 same n10000 -n 10000 -s 7 --steps 300

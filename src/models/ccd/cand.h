@@ -65,4 +65,17 @@ PSIM_HD static inline void ccd_box(double x, double y, double vx, double vy, dou
     b[3] = (y < y1 ? y1 : y) + g;
 }
 
+/* The first of x0[b, e) (ascending) not below x. */
+PSIM_HD static inline uint32_t ccd_lower(const double *x0, uint32_t b, uint32_t e, double x)
+{
+    while (b < e) {
+        uint32_t mid = b + (e - b) / 2;
+        if (x0[mid] < x)
+            b = mid + 1;
+        else
+            e = mid;
+    }
+    return b;
+}
+
 #endif

@@ -506,19 +506,6 @@ static uint64_t sweep_cell(detect_ctx *c, uint32_t k0, uint32_t k1, uint32_t a1,
     return tests;
 }
 
-/* First row of cell [b0, b1) whose left edge is not below x. */
-static uint32_t lower(const double *sx0, uint32_t b0, uint32_t b1, double x)
-{
-    while (b0 < b1) {
-        uint32_t mid = b0 + (b1 - b0) / 2;
-        if (sx0[mid] < x)
-            b0 = mid + 1;
-        else
-            b1 = mid;
-    }
-    return b0;
-}
-
 /* Pairs of rows [k0, k1) of cell `cell` with the four forward neighbour
  * cells. */
 static uint64_t sweep_neighbours(detect_ctx *c, uint32_t cell, uint32_t k0, uint32_t k1,
@@ -539,7 +526,7 @@ static uint64_t sweep_neighbours(detect_ctx *c, uint32_t cell, uint32_t k0, uint
         for (uint32_t a = k0; a < k1; a++) {
             /* boxes of nb are at most wmax[nb] wide: those starting before
              * sx0[a] - wmax[nb] end before a's box starts */
-            for (uint32_t b = lower(m->sx0, b0, b1, m->sx0[a] - m->wmax[nb]);
+            for (uint32_t b = ccd_lower(m->sx0, b0, b1, m->sx0[a] - m->wmax[nb]);
                  b < b1 && m->sx0[b] <= m->sx1[a]; b++)
                 if (m->sx1[b] >= m->sx0[a] && m->sy0[b] <= m->sy1[a] &&
                     m->sy0[a] <= m->sy1[b]) {

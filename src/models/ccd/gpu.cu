@@ -170,19 +170,6 @@ __device__ static inline int pair_test(uint32_t i, uint32_t j, const double *x, 
     return ccd_pair_time(x[i], y[i], vx[i], vy[i], x[j], y[j], vx[j], vy[j], r, &v->t);
 }
 
-/* The first place in [b, e) whose box's left edge is at least x. */
-__device__ static inline uint32_t lower(const double *x0, uint32_t b, uint32_t e, double x)
-{
-    while (b < e) {
-        uint32_t mid = b + (e - b) / 2;
-        if (x0[mid] < x)
-            b = mid + 1;
-        else
-            e = mid;
-    }
-    return b;
-}
-
 /* Disk i's wall candidate, and its pair candidates: with the disks after
  * it in its band whose boxes overlap its own (their left edges from its
  * left edge to its right), and with those of the band above (their left
@@ -215,7 +202,7 @@ __global__ static void k_detect(uint32_t nbands, const uint32_t *band, const uin
         if (b + 1 < nbands && cstart[b + 1] < cend[b + 1]) {
             const double wmax = __longlong_as_double((long long)*wbits);
             const uint32_t e = cend[b + 1];
-            for (uint32_t j = lower(B.x0, cstart[b + 1], e, ax0 - wmax * (1 + 1e-9));
+            for (uint32_t j = ccd_lower(B.x0, cstart[b + 1], e, ax0 - wmax * (1 + 1e-9));
                  j < e && B.x0[j] <= ax1; j++)
                 if (B.x1[j] >= ax0 && B.y0[j] <= ay1 && ay0 <= B.y1[j]) {
                     tests++;
