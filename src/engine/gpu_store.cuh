@@ -29,7 +29,7 @@ extern "C" {
 
 typedef struct psim_dstore {
     uint32_t n;
-    int32_t cells_side;             /* the cell arrays hold cells_side^2 cells */
+    size_t cells;                   /* cells the cell arrays hold */
     double *x, *y, *vx, *vy;        /* the state, in cell key order */
     double *x2, *y2, *vx2, *vy2;    /* gather targets; free between sorts */
     int32_t *id, *id2;
@@ -122,16 +122,16 @@ static inline void psim_dstore_free(psim_dstore *d)
     memset(d, 0, sizeof *d);
 }
 
-/* The store's n particles onto the device (device chosen already), with
- * cells for grids of up to cells_side a side: 0, or -1 with err set (and
+/* The store's n particles (n < 2^31) onto the device (device chosen
+ * already), with `cells` cells for their keys: 0, or -1 with err set (and
  * nothing held). */
-static inline int psim_dstore_create(psim_dstore *d, const psim_store *st, int32_t cells_side,
-                              psim_error *err)
+static inline int psim_dstore_create(psim_dstore *d, const psim_store *st, size_t cells,
+                                     psim_error *err)
 {
     memset(d, 0, sizeof *d);
-    d->n = (uint32_t)st->n, d->cells_side = cells_side;
+    d->n = (uint32_t)st->n, d->cells = cells;
     size_t n = st->n, dbl = n * sizeof(double), w = n * sizeof(uint32_t);
-    size_t cells = (size_t)cells_side * (size_t)cells_side * sizeof(uint32_t);
+    size_t cbytes = cells * sizeof(uint32_t);
     double **dbls[] = {&d->x, &d->y, &d->vx, &d->vy, &d->x2, &d->y2, &d->vx2, &d->vy2};
     uint32_t **words[] = {&d->key, &d->key2, &d->place, &d->place2};
     int rc = 0;
@@ -140,12 +140,13 @@ static inline int psim_dstore_create(psim_dstore *d, const psim_store *st, int32
     for (uint32_t **p : words)
         rc = rc || psim_dalloc(p, w, err);
     rc = rc || psim_dalloc(&d->id, w, err) || psim_dalloc(&d->id2, w, err) ||
-         psim_dalloc(&d->cstart, cells, err) || psim_dalloc(&d->cend, cells, err);
-    if (!rc) {   /* the scratch of a sort of every key bit */
-        cub::DeviceRadixSort::SortPairs(nullptr, d->tmp_bytes, d->key, d->key2, d->place,
-                                        d->place2, (int)d->n, 0, 32);
-        rc = psim_dalloc(&d->tmp, d->tmp_bytes, err);
-    }
+         psim_dalloc(&d->cstart, cbytes, err) || psim_dalloc(&d->cend, cbytes, err);
+    if (!rc)   /* the scratch of a sort of every key bit */
+        rc = psim_cuda_failed(cub::DeviceRadixSort::SortPairs(nullptr, d->tmp_bytes, d->key,
+                                                              d->key2, d->place, d->place2,
+                                                              (int)d->n, 0, 32),
+                              "the sort's scratch", err) ||
+             psim_dalloc(&d->tmp, d->tmp_bytes, err);
     const char *what = "copy to the device";
     rc = rc || psim_cuda_failed(cudaMemcpy(d->x, st->x, dbl, cudaMemcpyHostToDevice), what, err) ||
          psim_cuda_failed(cudaMemcpy(d->y, st->y, dbl, cudaMemcpyHostToDevice), what, err) ||
@@ -182,7 +183,8 @@ static inline void psim_dstore_sort_keys(psim_dstore *d, size_t cells, int key_b
     psim_dk_ranges<<<blocks, th>>>(d->key2, d->n, d->cstart, d->cend);
 }
 
-/* The sort by cell key on grid g (side at most cells_side), enqueued. */
+/* The sort by cell key on grid g (g.side^2 cells at most d->cells),
+ * enqueued. */
 static inline void psim_dstore_sort(psim_dstore *d, const psim_gpu_grid &g, unsigned blocks)
 {
     psim_dk_keys<<<blocks, PSIM_GPU_THREADS>>>(g, d->x, d->y, d->key, d->place, d->n);

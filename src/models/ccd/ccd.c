@@ -253,21 +253,29 @@ oom:
 }
 
 /* A step on the device (gpu.h), timed and counted as the CPU path's
- * phases and counters (its pair tests: each pair of disks in adjacent
- * cells, once). */
+ * phases and counters (its pair tests: the pairs whose swept boxes
+ * overlap).  The host's grid is planned for the step's speeds as the CPU
+ * path plans it where it searches for pairs, so that restart files carry
+ * the same plan. */
 static int gpu_interact(psim_sim *e, cmodel *m, psim_error *err)
 {
     cgpu_step_out o = {0};
-    int rc = cgpu_step(m->gpu, &o, err);
+    int rc = cgpu_step(m->gpu, &o, err), regridded = 0;
     double *s = e->stats.phase_s;
     s[CPHASE_DETECT] += o.detect, s[PSIM_PHASE_SORT] += o.sort, s[CPHASE_ORDER] += o.order;
     s[CPHASE_ACCEPT] += o.accept, s[PSIM_PHASE_MOVE] += o.move;
+    if (rc)
+        return rc;
+    if (e->st.n > 0 && fit_grid(e, m, o.vmax, &regridded)) {
+        psim_error_set(err, "out of memory for the ccd model's grid");
+        return -1;
+    }
     uint64_t *c = e->stats.counter;
     c[CC_PAIR_TESTS] += o.tests, c[CC_PAIR_CANDIDATES] += o.pair_cands;
     c[CC_WALL_CANDIDATES] += o.wall_cands, c[CC_PAIR_COLLISIONS] += o.pair_colls;
     c[CC_WALL_COLLISIONS] += o.wall_colls, c[CC_ACCEPT_ROUNDS] += o.rounds;
-    c[CC_REGRIDS] += o.regrids;
-    return rc;
+    c[CC_REGRIDS] += (uint64_t)regridded;
+    return 0;
 }
 
 /* The store and the collision counts brought up to date from the device

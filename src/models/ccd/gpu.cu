@@ -374,9 +374,10 @@ static int cands_room(cgpu *g, size_t cap, psim_error *err)
         psim_dalloc(&g->live, cap, err))
         return -1;
     g->tmp_bytes = 0;
-    cub::DeviceRadixSort::SortPairs(nullptr, g->tmp_bytes, g->k, g->k2, g->ix, g->ix2,
-                                    (int)cap, 0, 64);
-    if (psim_dalloc(&g->tmp, g->tmp_bytes, err))
+    if (psim_cuda_failed(cub::DeviceRadixSort::SortPairs(nullptr, g->tmp_bytes, g->k, g->k2,
+                                                         g->ix, g->ix2, (int)cap, 0, 64),
+                         "the candidates' sort", err) ||
+        psim_dalloc(&g->tmp, g->tmp_bytes, err))
         return -1;
     g->cap = cap;
     return 0;
@@ -392,9 +393,14 @@ extern "C" cgpu *cgpu_create(psim_store *st, double L, double r, const int64_t *
     }
     g->st = st, g->L = L, g->r = r, g->device = device;
     const size_t n = st->n, counts = n * sizeof(int64_t);
+    if (n > (size_t)INT32_MAX - 1024) {   /* (the radix sorts count in an int) */
+        psim_error_set(err, "--device gpu: %zu disks: more than the device's sorts take", n);
+        free(g);
+        return NULL;
+    }
     double t0 = psim_now();
     int rc = psim_cuda_failed(cudaSetDevice(device), "device", err) ||
-             psim_dstore_create(&g->d, st, psim_gpu_grid_most((long)n), err) ||
+             psim_dstore_create(&g->d, st, (size_t)psim_gpu_grid_most((long)n), err) ||
              psim_dalloc(&g->pcoll, counts, err) || psim_dalloc(&g->wcoll, counts, err) ||
              psim_dalloc(&g->busy, n, err) || psim_dalloc(&g->best, n * sizeof(uint32_t), err) ||
              psim_dalloc(&g->cnt, sizeof(ccounts), err) ||
@@ -424,7 +430,7 @@ static int fit_bands(cgpu *g, double vmax, psim_error *err)
 {
     double reach = ccd_reach(g->L, g->r, vmax);
     g->grow = g->r + ccd_margin_of(g->L, g->r, vmax);
-    int32_t most = g->d.cells_side;
+    int32_t most = psim_gpu_grid_most((long)g->d.n);
     if (g->bands_reach > 0 && reach <= g->bands_reach &&
         !(reach * 3 < g->bands_reach && g->bands.side < most))
         return 0;
@@ -477,7 +483,10 @@ static long detect(cgpu *g, const boxes &B, cgpu_step_out *o, psim_error *err)
             o->tests = h.tests, o->wall_cands = h.walls, o->pair_cands = h.found - h.walls;
             return (long)h.found;
         }
-        if (cands_room(g, (size_t)(h.found + h.found / 2 + 1024), err))
+        unsigned long long want = h.found + h.found / 2 + 1024;
+        if (h.found <= INT32_MAX && want > INT32_MAX)
+            want = INT32_MAX;
+        if (cands_room(g, (size_t)want, err))
             return -1;
     }
 }
@@ -521,9 +530,12 @@ extern "C" int cgpu_step(cgpu *g, cgpu_step_out *o, psim_error *err)
     psim_dstore *d = &g->d;
     const unsigned nb = blocks_of(d->n), th = PSIM_GPU_THREADS;
     memset(&o->tests, 0, sizeof *o - offsetof(cgpu_step_out, tests));
+    o->rounds = 1;   /* (as the CPU path counts a step without candidates) */
     g->ncand = 0;
     if (d->n == 0)
         return 0;
+    if (psim_cuda_failed(cudaSetDevice(g->device), "device", err))   /* (per host thread) */
+        return -1;
     g->newer = 1;
     double t0 = psim_now();
     cudaMemsetAsync(g->cnt, 0, sizeof(ccounts));
@@ -531,12 +543,9 @@ extern "C" int cgpu_step(cgpu *g, cgpu_step_out *o, psim_error *err)
     ccounts h;
     if (psim_cuda_failed(read_counts(g, &h), "step", err))
         return -1;
-    double vmax;
-    memcpy(&vmax, &h.vmax, sizeof vmax);
-    int planned = fit_bands(g, vmax, err);
-    if (planned < 0)
+    memcpy(&o->vmax, &h.vmax, sizeof o->vmax);
+    if (fit_bands(g, o->vmax, err) < 0)
         return -1;
-    o->regrids = (uint64_t)planned;
     o->detect += lap(&t0);
     boxes B = sort_disks(g, nb);
     o->sort += lap(&t0);
@@ -577,7 +586,9 @@ extern "C" double cgpu_sync(cgpu *g, int64_t *pcoll, int64_t *wcoll)
         return 0;
     double t0 = psim_now();
     size_t counts = g->st->n * sizeof(int64_t);
-    cudaError_t rc = psim_dstore_download(&g->d, g->st);
+    cudaError_t rc = cudaSetDevice(g->device);
+    if (rc == cudaSuccess)
+        rc = psim_dstore_download(&g->d, g->st);
     if (rc == cudaSuccess)
         rc = cudaMemcpy(pcoll, g->pcoll, counts, cudaMemcpyDeviceToHost);
     if (rc == cudaSuccess)
@@ -599,7 +610,9 @@ extern "C" int cgpu_lists(cgpu *g, ccand *all, ccand *acc, size_t *nacc)
     uint8_t *live = (uint8_t *)malloc(nc);
     if (!live)
         return -1;
-    cudaError_t rc = cudaMemcpy(all, g->cand2, nc * sizeof *all, cudaMemcpyDeviceToHost);
+    cudaError_t rc = cudaSetDevice(g->device);
+    if (rc == cudaSuccess)
+        rc = cudaMemcpy(all, g->cand2, nc * sizeof *all, cudaMemcpyDeviceToHost);
     if (rc == cudaSuccess)
         rc = cudaMemcpy(live, g->live, nc, cudaMemcpyDeviceToHost);
     for (size_t k = 0; rc == cudaSuccess && k < nc; k++)
@@ -613,6 +626,7 @@ extern "C" void cgpu_destroy(cgpu *g)
 {
     if (!g)
         return;
+    cudaSetDevice(g->device);
     psim_dstore_free(&g->d);
     free_cands(g);
     void *all[] = {g->pcoll, g->wcoll, g->busy, g->best, g->cnt, g->wbits};

@@ -17,10 +17,12 @@
 
 typedef struct cgpu cgpu;
 
-/* A step's seconds (added to) and counts (set). */
+/* A step's seconds (added to), and its largest |vx| + |vy| and counts
+ * (set). */
 typedef struct cgpu_step_out {
     double detect, sort, order, accept, move;
-    uint64_t tests, pair_cands, wall_cands, pair_colls, wall_colls, rounds, regrids;
+    double vmax;
+    uint64_t tests, pair_cands, wall_cands, pair_colls, wall_colls, rounds;
 } cgpu_step_out;
 
 #ifdef __cplusplus

@@ -159,7 +159,7 @@ extern "C" fgpu *fgpu_create(psim_store *st, const flaw *law, int device, double
     }
     double t0 = psim_now();
     if (psim_cuda_failed(cudaSetDevice(device), "device", err) ||
-        psim_dstore_create(&g->d, st, g->grid.side, err) ||
+        psim_dstore_create(&g->d, st, (size_t)g->grid.side * (size_t)g->grid.side, err) ||
         psim_dalloc(&g->lost, sizeof(int), err) ||
         psim_dalloc(&g->hits, sizeof(unsigned long long), err)) {
         fgpu_destroy(g);
@@ -181,6 +181,7 @@ static double lap(double *t0)
 extern "C" int fgpu_step(fgpu *g, fgpu_times *t, uint64_t *interactions, psim_error *err)
 {
     psim_dstore *d = &g->d;
+    cudaSetDevice(g->device);   /* (the runtime's device is per host thread) */
     long nb = psim_gpu_blocks((long)d->n);
     if (nb <= 0)
         return 0;
@@ -215,7 +216,7 @@ extern "C" double fgpu_sync(fgpu *g)
     if (!g->newer)
         return 0;
     double t0 = psim_now();
-    if (psim_dstore_download(&g->d, g->st) != cudaSuccess)
+    if (cudaSetDevice(g->device) != cudaSuccess || psim_dstore_download(&g->d, g->st) != cudaSuccess)
         return -1;
     g->newer = 0;
     return psim_now() - t0;
@@ -225,6 +226,7 @@ extern "C" void fgpu_destroy(fgpu *g)
 {
     if (!g)
         return;
+    cudaSetDevice(g->device);
     psim_dstore_free(&g->d);
     if (g->lost)
         cudaFree(g->lost);
