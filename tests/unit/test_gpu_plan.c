@@ -15,6 +15,7 @@
 #include "engine/gpu_grid.h"
 #include "models/ccd/cand.h"
 #include "models/ccd/rules.h"
+#include "models/ccd/sweep.h"
 #include "models/force/gpu_plan.h"
 #include "models/force/law.h"
 
@@ -224,6 +225,125 @@ static void test_ccd_reach(double L, double r, double vmax)
     CHECK_MSG(found > 1000, "L %g r %g vmax %g: %d candidates made", L, r, vmax, found);
 }
 
+/* The GPU path's ccd search (sweep.h) run on the CPU, its sort and boxes
+ * made as the device makes them, against every pair: the same
+ * candidates, each pair met once. */
+typedef struct sdisk {
+    uint32_t band;
+    uint64_t edge;
+    uint32_t place;
+} sdisk;
+
+static int sdisk_cmp(const void *pa, const void *pb)
+{
+    const sdisk *a = pa, *b = pb;
+    if (a->band != b->band)
+        return a->band < b->band ? -1 : 1;
+    if (a->edge != b->edge)
+        return a->edge < b->edge ? -1 : 1;
+    return (a->place > b->place) - (a->place < b->place);   /* (stable) */
+}
+
+static int cand_pq_cmp(const void *pa, const void *pb)
+{
+    const ccand *a = pa, *b = pb;
+    if (a->p != b->p)
+        return a->p < b->p ? -1 : 1;
+    return (a->q > b->q) - (a->q < b->q);
+}
+
+/* n disks in a box of L, radius r, velocity components up to v (and
+ * `fast` of them up to 40 v): the sweep's candidates are every pair's. */
+static void test_ccd_sweep(uint32_t n, double L, double r, double v, uint32_t fast,
+                           unsigned seed)
+{
+    double *x = malloc(n * sizeof *x), *y = malloc(n * sizeof *y);
+    double *vx = malloc(n * sizeof *vx), *vy = malloc(n * sizeof *vy);
+    double *b4 = malloc(4 * (size_t)n * sizeof *b4);
+    int32_t *id = malloc(n * sizeof *id);
+    uint32_t *band = malloc(n * sizeof *band);
+    sdisk *sd = malloc(n * sizeof *sd);
+    size_t most = (size_t)n * (n - 1) / 2 + 1;
+    ccand *got = malloc(most * sizeof *got), *want = malloc(most * sizeof *want);
+    uint8_t *met = calloc((size_t)n * n, 1);
+    srand(seed);
+    double vmax = 0;
+    for (uint32_t k = 0; k < n; k++) {
+        double s = k < fast ? 40 * v : v;
+        x[k] = L * rand() / RAND_MAX, y[k] = L * rand() / RAND_MAX;
+        vx[k] = s * (2.0 * rand() / RAND_MAX - 1), vy[k] = s * (2.0 * rand() / RAND_MAX - 1);
+        id[k] = (int32_t)((k * 7919u) % n);   /* ids not in place order */
+        double d = fabs(vx[k]) + fabs(vy[k]);
+        vmax = d > vmax ? d : vmax;
+    }
+    /* the bands and the sort, as gpu.cu's fit_bands and sort_disks */
+    double reach = ccd_reach(L, r, vmax), want_h = fmin(reach * 1.1, L * 2);
+    psim_gpu_grid g;
+    CHECK(psim_gpu_grid_plan(L, want_h > reach ? want_h : reach, (long)n, &g) == 0);
+    const double grow = r + ccd_margin_of(L, r, vmax);
+    for (uint32_t k = 0; k < n; k++) {
+        double b[4];
+        ccd_box(x[k], 0, vx[k], 0, grow, b);
+        sd[k] = (sdisk){(uint32_t)psim_gpu_cell(&g, y[k]), ccd_time_key(b[0]), k};
+    }
+    qsort(sd, n, sizeof *sd, sdisk_cmp);
+    double *sx = malloc(n * sizeof *sx), *sy = malloc(n * sizeof *sy);
+    double *su = malloc(n * sizeof *su), *sw = malloc(n * sizeof *sw);
+    int32_t *sid = malloc(n * sizeof *sid);
+    uint32_t *start = calloc((size_t)g.side, sizeof *start), *end = calloc((size_t)g.side, sizeof *end);
+    double wmax = 0;
+    for (uint32_t k = 0; k < n; k++) {
+        uint32_t i = sd[k].place;
+        sx[k] = x[i], sy[k] = y[i], su[k] = vx[i], sw[k] = vy[i], sid[k] = id[i];
+        band[k] = sd[k].band;
+        if (k == 0 || band[k - 1] != band[k])
+            start[band[k]] = k;
+        end[band[k]] = k + 1;
+        double *b = b4 + 4 * (size_t)k;
+        ccd_box(sx[k], sy[k], su[k], sw[k], grow, b);
+        wmax = b[1] - b[0] > wmax ? b[1] - b[0] : wmax;
+    }
+    double *bx0 = malloc(n * sizeof *bx0), *bx1 = malloc(n * sizeof *bx1);
+    double *by0 = malloc(n * sizeof *by0), *by1 = malloc(n * sizeof *by1);
+    for (uint32_t k = 0; k < n; k++)
+        bx0[k] = b4[4 * k], bx1[k] = b4[4 * k + 1], by0[k] = b4[4 * k + 2], by1[k] = b4[4 * k + 3];
+    ccd_sweep S = {n, (uint32_t)g.side, band, start, end, bx0, bx1, by0, by1, wmax};
+    size_t ng = 0, nw = 0, twice = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        ccd_walk w;
+        uint32_t j;
+        for (ccd_walk_start(&S, i, &w); ccd_walk_next(&S, &w, &j);) {
+            uint8_t *m = &met[(size_t)(i < j ? i : j) * n + (i < j ? j : i)];
+            twice += *m + (i == j);   /* (a disk with itself counts too) */
+            *m = 1;
+            if (ccd_pair_test(i, j, sx, sy, su, sw, sid, r, &got[ng]))
+                ng++;
+        }
+    }
+    /* every pair, the lower id first */
+    for (uint32_t a = 0; a < n; a++)
+        for (uint32_t b = a + 1; b < n; b++) {
+            uint32_t p = id[a] < id[b] ? a : b, q = id[a] < id[b] ? b : a;
+            ccand c = {0, id[p], id[q], 0, 0};
+            if (ccd_pair_time(x[p], y[p], vx[p], vy[p], x[q], y[q], vx[q], vy[q], r, &c.t))
+                want[nw++] = c;
+        }
+    qsort(got, ng, sizeof *got, cand_pq_cmp);
+    qsort(want, nw, sizeof *want, cand_pq_cmp);
+    int same = ng == nw;
+    for (size_t k = 0; same && k < nw; k++)
+        same = got[k].p == want[k].p && got[k].q == want[k].q &&
+               memcmp(&got[k].t, &want[k].t, sizeof got[k].t) == 0;
+    CHECK_MSG(same, "n %u L %g v %g: the sweep found %zu candidates, every pair gives %zu", n,
+              L, v, ng, nw);
+    CHECK_MSG(twice == 0, "n %u L %g v %g: %zu pairs met twice (or a disk itself)", n, L, v,
+              twice);
+    CHECK_MSG(nw >= 20, "n %u L %g v %g: only %zu candidates", n, L, v, nw);
+    free(x), free(y), free(vx), free(vy), free(b4), free(id), free(band), free(sd);
+    free(got), free(want), free(met), free(sx), free(sy), free(su), free(sw), free(sid);
+    free(start), free(end), free(bx0), free(bx1), free(by0), free(by1);
+}
+
 int main(void)
 {
     test_grid();
@@ -235,6 +355,10 @@ int main(void)
     test_ccd_reach(1000.0, 1.0, 2.0);
     test_ccd_reach(20000.0, 0.5, 10.0);
     test_ccd_reach(50.0, 2.0, 0.1);
-    test_ccd_reach(1000.0, 10.0, 300.0);   /* the course generator's: a third of the box a step */
+    test_ccd_reach(1000.0, 10.0, 300.0);
+    test_ccd_sweep(2000, 28284.3, 1.0, 28284.3 / 6, 0, 3);   /* the course generator's */
+    test_ccd_sweep(3000, 137.3, 1.0, 1.0, 0, 5);             /* slow and crowded: bands */
+    test_ccd_sweep(3000, 300.0, 1.0, 0.5, 30, 7);            /* a few fast among slow */
+    test_ccd_sweep(1500, 60.0, 2.0, 3.0, 0, 9);              /* fast and crowded */   /* the course generator's: a third of the box a step */
     return check_done();
 }

@@ -40,6 +40,7 @@ extern "C" {
 #include "../../engine/timer.h"
 #include "gpu.h"
 #include "rules.h"
+#include "sweep.h"
 }
 
 /* Counts the device keeps for a step, read back after its parts. */
@@ -152,63 +153,29 @@ __device__ static inline void put(ccand *cand, size_t cap, ccounts *c, ccand v)
         cand[k] = v;
 }
 
-/* The swept boxes, in the sorted order. */
-struct boxes {
-    const double *x0, *x1, *y0, *y1;
-};
-
-/* The rules on the pair of places i and j, the lower id as P. */
-__device__ static inline int pair_test(uint32_t i, uint32_t j, const double *x, const double *y,
-                                       const double *vx, const double *vy, const int32_t *id,
-                                       double r, ccand *v)
-{
-    if (id[i] > id[j]) {
-        uint32_t t = i;
-        i = j, j = t;
-    }
-    v->p = id[i], v->q = id[j], v->sp = i, v->sq = j;
-    return ccd_pair_time(x[i], y[i], vx[i], vy[i], x[j], y[j], vx[j], vy[j], r, &v->t);
-}
-
-/* Disk i's wall candidate, and its pair candidates: with the disks after
- * it in its band whose boxes overlap its own (their left edges from its
- * left edge to its right), and with those of the band above (their left
- * edges from its own less the widest box). */
-__global__ static void k_detect(uint32_t nbands, const uint32_t *band, const uint32_t *cstart,
-                                const uint32_t *cend, boxes B, const unsigned long long *wbits,
-                                const double *x, const double *y, const double *vx,
-                                const double *vy, const int32_t *id, uint32_t n, double L,
-                                double r, ccand *cand, size_t cap, ccounts *c)
+/* Disk i's wall candidate, and its pair candidates (sweep.h). */
+__global__ static void k_detect(ccd_sweep S, const double *x, const double *y, const double *vx,
+                                const double *vy, const int32_t *id, const unsigned long long *wbits,
+                                double L, double r, ccand *cand, size_t cap, ccounts *c)
 {
     typedef cub::BlockReduce<unsigned long long, PSIM_GPU_THREADS> reduce;
     __shared__ typename reduce::TempStorage shared;
     uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
     unsigned long long tests = 0, walls = 0;
-    if (i < n) {
+    if (i < S.n) {
         ccand v;
         if (ccd_wall_time(x[i], y[i], vx[i], vy[i], 1.0, L, r, &v.t)) {
             v.p = id[i], v.q = -1, v.sp = i, v.sq = UINT32_MAX;
             put(cand, cap, c, v);
             walls++;
         }
-        const double ax0 = B.x0[i], ax1 = B.x1[i], ay0 = B.y0[i], ay1 = B.y1[i];
-        const uint32_t b = band[i];
-        for (uint32_t j = i + 1, e = cend[b]; j < e && B.x0[j] <= ax1; j++)
-            if (B.y0[j] <= ay1 && ay0 <= B.y1[j]) {
-                tests++;
-                if (pair_test(i, j, x, y, vx, vy, id, r, &v))
-                    put(cand, cap, c, v);
-            }
-        if (b + 1 < nbands && cstart[b + 1] < cend[b + 1]) {
-            const double wmax = __longlong_as_double((long long)*wbits);
-            const uint32_t e = cend[b + 1];
-            for (uint32_t j = ccd_lower(B.x0, cstart[b + 1], e, ax0 - wmax * (1 + 1e-9));
-                 j < e && B.x0[j] <= ax1; j++)
-                if (B.x1[j] >= ax0 && B.y0[j] <= ay1 && ay0 <= B.y1[j]) {
-                    tests++;
-                    if (pair_test(i, j, x, y, vx, vy, id, r, &v))
-                        put(cand, cap, c, v);
-                }
+        S.wmax = __longlong_as_double((long long)*wbits);
+        ccd_walk w;
+        uint32_t j;
+        for (ccd_walk_start(&S, i, &w); ccd_walk_next(&S, &w, &j);) {
+            tests++;
+            if (ccd_pair_test(i, j, x, y, vx, vy, id, r, &v))
+                put(cand, cap, c, v);
         }
     }
     unsigned long long t = reduce(shared).Sum(tests);
@@ -450,8 +417,9 @@ static int fit_bands(cgpu *g, double vmax, psim_error *err)
 
 /* The disks sorted by band, and within a band by their boxes' left
  * edges (a stable sort by edge, then one by band), and their boxes
- * (into the store's free gather arrays) and the widest, enqueued. */
-static boxes sort_disks(cgpu *g, unsigned blocks)
+ * (into the store's free gather arrays) and the widest (on the device,
+ * wbits), enqueued: the sweep (sweep.h) but its wmax. */
+static ccd_sweep sort_disks(cgpu *g, unsigned blocks)
 {
     psim_dstore *d = &g->d;
     const unsigned th = PSIM_GPU_THREADS;
@@ -463,19 +431,21 @@ static boxes sort_disks(cgpu *g, unsigned blocks)
     cudaMemsetAsync(g->wbits, 0, sizeof *g->wbits);
     k_boxes<<<blocks, th>>>(d->x, d->y, d->vx, d->vy, d->n, g->grow, d->x2, d->y2, d->vx2,
                             d->vy2, g->wbits);
-    return boxes{d->x2, d->y2, d->vx2, d->vy2};
+    ccd_sweep S = {d->n, (uint32_t)g->bands.side, d->key2, d->cstart, d->cend,
+                   d->x2, d->y2, d->vx2, d->vy2, 0};
+    return S;
 }
 
 /* The candidates of this step, into cand (the room grown and the search
  * run again where they did not fit): their count, or -1 with err set. */
-static long detect(cgpu *g, const boxes &B, cgpu_step_out *o, psim_error *err)
+static long detect(cgpu *g, const ccd_sweep &S, cgpu_step_out *o, psim_error *err)
 {
     psim_dstore *d = &g->d;
     for (;;) {
         cudaMemsetAsync(g->cnt, 0, sizeof(ccounts));
-        k_detect<<<blocks_of(d->n), PSIM_GPU_THREADS>>>(
-            (uint32_t)g->bands.side, d->key2, d->cstart, d->cend, B, g->wbits, d->x, d->y, d->vx,
-            d->vy, d->id, d->n, g->L, g->r, g->cand, g->cap, g->cnt);
+        k_detect<<<blocks_of(d->n), PSIM_GPU_THREADS>>>(S, d->x, d->y, d->vx, d->vy, d->id,
+                                                       g->wbits, g->L, g->r, g->cand, g->cap,
+                                                       g->cnt);
         ccounts h;
         if (psim_cuda_failed(read_counts(g, &h), "detect", err))
             return -1;
@@ -547,9 +517,9 @@ extern "C" int cgpu_step(cgpu *g, cgpu_step_out *o, psim_error *err)
     if (fit_bands(g, o->vmax, err) < 0)
         return -1;
     o->detect += lap(&t0);
-    boxes B = sort_disks(g, nb);
+    ccd_sweep S = sort_disks(g, nb);
     o->sort += lap(&t0);
-    long nc = detect(g, B, o, err);
+    long nc = detect(g, S, o, err);
     if (nc < 0)
         return -1;
     o->detect += lap(&t0);
