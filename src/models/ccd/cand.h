@@ -32,7 +32,7 @@ PSIM_HD static inline uint64_t ccd_time_key(double t)
 
 PSIM_HD static inline uint64_t ccd_id_key(int32_t p, int32_t q)
 {
-    return ((uint64_t)(uint32_t)p << 32) | (uint32_t)(q + 1);
+    return ((uint64_t)(uint32_t)p << 32) | ((uint32_t)q + 1u);   /* (-1: 0) */
 }
 
 /* Slack of the swept boxes, the cells and the skips against round-off:
