@@ -1,6 +1,7 @@
 /* CUDA devices (gpu.h): the CUDA runtime's count and properties, or none
  * in a build without CUDA. */
 #include <stdio.h>
+#include <stdlib.h>
 
 #include "gpu.h"
 #ifdef PSIM_HAVE_CUDA
@@ -37,6 +38,12 @@ int psim_gpu_count(const char **why)
     *why = "psim was built without CUDA";
     return 0;
 #endif
+}
+
+void psim_gpu_lost(void)
+{
+    fputs("psim: --device gpu: the state could not be copied from the device\n", stderr);
+    exit(1);
 }
 
 void psim_gpu_describe(int k, char *buf, size_t size)

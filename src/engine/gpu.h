@@ -16,6 +16,10 @@ int psim_gpu_used(void);
 /* How many CUDA devices this process sees (0 without CUDA, a driver or a
  * device); *why, where none, says why in a few words. */
 int psim_gpu_count(const char **why);
+/* Ends the process with one line and exit status 1: a model's sync
+ * could not copy its state from the device, and the engine is about to
+ * read the store (nothing it wrote would be true). */
+void psim_gpu_lost(void);
 /* Device k's name and memory into buf ("NVIDIA H200, 139.8 GiB"). */
 void psim_gpu_describe(int k, char *buf, size_t size);
 

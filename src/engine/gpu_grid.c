@@ -22,11 +22,16 @@ int psim_gpu_grid_plan(double size, double reach, long n, psim_gpu_grid *g)
     side = side < most ? side : most;
     g->side = side < 1 ? 1 : (int32_t)side;
     g->inv = (double)g->side / size;
-    uint64_t top = (uint64_t)g->side * (uint64_t)g->side - 1;
-    g->key_bits = 1;
-    while (g->key_bits < 32 && (top >> g->key_bits) != 0)
-        g->key_bits++;
+    g->key_bits = psim_gpu_bits((uint64_t)g->side * (uint64_t)g->side - 1);
     return 0;
+}
+
+int psim_gpu_bits(uint64_t top)
+{
+    int bits = 1;
+    while (bits < 32 && (top >> bits) != 0)
+        bits++;
+    return bits;
 }
 
 long psim_gpu_blocks(long n)

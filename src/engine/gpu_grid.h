@@ -31,6 +31,9 @@ typedef struct psim_gpu_grid {
 int psim_gpu_grid_plan(double size, double reach, long n, psim_gpu_grid *g);
 /* The most cells a side psim_gpu_grid_plan gives n particles. */
 int32_t psim_gpu_grid_most(long n);
+/* The bits a radix sort of keys up to top needs (1 to 32; 32 for any
+ * larger top). */
+int psim_gpu_bits(uint64_t top);
 
 /* The cell column (or row) of coordinate x, held inside the grid (a
  * coordinate outside the box, or NaN, is in an edge cell). */

@@ -25,6 +25,7 @@ extern "C" {
 #include "../base/error.h"
 #include "gpu_grid.h"
 #include "store.h"
+#include "timer.h"
 }
 
 typedef struct psim_dstore {
@@ -189,6 +190,16 @@ static inline void psim_dstore_sort(psim_dstore *d, const psim_gpu_grid &g, unsi
 {
     psim_dk_keys<<<blocks, PSIM_GPU_THREADS>>>(g, d->x, d->y, d->key, d->place, d->n);
     psim_dstore_sort_keys(d, (size_t)g.side * (size_t)g.side, g.key_bits, blocks);
+}
+
+/* Seconds since *t0, the device's work done; *t0 moved on (a step's
+ * phases timed). */
+static inline double psim_dlap(double *t0)
+{
+    cudaDeviceSynchronize();
+    double t = psim_now(), dt = t - *t0;
+    *t0 = t;
+    return dt;
 }
 
 /* The device's arrays into the store (waits for the device): a CUDA

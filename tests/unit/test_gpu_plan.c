@@ -14,6 +14,7 @@
 #include "check.h"
 #include "engine/gpu_grid.h"
 #include "models/ccd/cand.h"
+#include "models/ccd/ccd.h"
 #include "models/ccd/rules.h"
 #include "models/ccd/sweep.h"
 #include "models/force/gpu_plan.h"
@@ -137,16 +138,11 @@ static void test_law(void)
     CHECK(flaw_force(&k, 0.5, 0.5, 0.52, 0.5, &fx, &fy) == 0);
 }
 
-/* The ccd model's order (order.c's ccd_cand_cmp, restated): time, then
- * P, then Q with the wall (-1) first. */
-static int cand_cmp(const void *pa, const void *pb)
+/* The ccd model's order (order.c's ccd_cand_cmp): time, then P, then Q
+ * with the wall (-1) first. */
+static int cand_cmp(const void *a, const void *b)
 {
-    const ccand *a = pa, *b = pb;
-    if (a->t != b->t)
-        return a->t < b->t ? -1 : 1;
-    if (a->p != b->p)
-        return a->p < b->p ? -1 : 1;
-    return (a->q > b->q) - (a->q < b->q);
+    return ccd_cand_cmp(a, b);
 }
 
 /* The GPU path's order: by the time key, then the id key (its stable

@@ -7,29 +7,6 @@
 #include "rules.h"
 #include "../../engine/tstats.h"
 
-static void apply(const ccand *c, psim_store *s, cmodel *m)
-{
-    const double L = m->L, r = m->r, t = c->t;
-    double *x = s->x, *y = s->y, *vx = s->vx, *vy = s->vy;
-    uint32_t p = c->sp;
-    x[p] += vx[p] * t;
-    y[p] += vy[p] * t;
-    if (c->q < 0) {
-        m->wcoll[c->p]++;
-        ccd_wall_reflect(x[p], y[p], &vx[p], &vy[p], L, r);
-        ccd_rest(&x[p], &y[p], vx[p], vy[p], 1 - t, L, r);
-        return;
-    }
-    uint32_t q = c->sq;
-    x[q] += vx[q] * t;
-    y[q] += vy[q] * t;
-    m->pcoll[c->p]++;
-    m->pcoll[c->q]++;
-    ccd_pair_bounce(x[p], y[p], &vx[p], &vy[p], x[q], y[q], &vx[q], &vy[q]);
-    ccd_rest(&x[p], &y[p], vx[p], vy[p], 1 - t, L, r);
-    ccd_rest(&x[q], &y[q], vx[q], vy[q], 1 - t, L, r);
-}
-
 void ccd_advance(psim_sim *e, cmodel *m)
 {
     psim_store *s = &e->st;
@@ -40,7 +17,7 @@ void ccd_advance(psim_sim *e, cmodel *m)
         uint64_t walls = 0;
 #pragma omp for schedule(static)
         for (size_t k = 0; k < na; k++) {
-            apply(&m->acc.c[k], s, m);
+            ccd_apply(&m->acc.c[k], s->x, s->y, s->vx, s->vy, m->pcoll, m->wcoll, m->L, m->r);
             walls += m->acc.c[k].q < 0;
         }
         int T = omp_get_num_threads(), me = omp_get_thread_num();

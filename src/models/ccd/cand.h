@@ -8,6 +8,7 @@
  * the times as numbers, -0 as +0; the id key orders (P, Q + 1). */
 #ifndef PSIM_CCD_CAND_H
 #define PSIM_CCD_CAND_H
+#include <math.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <string.h>
@@ -51,6 +52,23 @@ PSIM_HD static inline double ccd_margin_of(double L, double r, double vmax)
 PSIM_HD static inline double ccd_reach(double L, double r, double vmax)
 {
     return 2 * r + 2 * vmax + 2 * ccd_margin_of(L, r, vmax);
+}
+
+/* Whether cells `wide` wide (0: none yet), side of them a side, serve a
+ * step of this reach: wide enough, and not over three times as wide while
+ * more of them (up to most a side) could be had. */
+PSIM_HD static inline int ccd_cells_keep(double reach, double wide, long side, long most)
+{
+    return wide > 0 && reach <= wide && !(reach * 3 < wide && side < most);
+}
+
+/* The width to plan cells for a step of this reach: 10% wider, so that
+ * slowly growing speeds do not plan them again every step, but no wider
+ * than twice the box unless the reach is. */
+PSIM_HD static inline double ccd_cells_want(double L, double reach)
+{
+    double want = fmin(reach * 1.1, L * 2);
+    return want > reach ? want : reach;
 }
 
 /* A disk's swept box over the step, grown by g = r + the margin: x0, x1,

@@ -8,6 +8,7 @@
 #include <omp.h>
 
 #include "ccd.h"
+#include "../../engine/gpu.h"
 #include "../../engine/mem.h"
 #include "../../engine/tstats.h"
 
@@ -59,13 +60,11 @@ static int fit_grid(psim_sim *e, cmodel *m, double vmax, int *regridded)
     m->margin = ccd_margin(m, vmax);
     double reach = ccd_reach(m->L, m->r, vmax);
     *regridded = 0;
-    if (e->has_grid && reach <= e->grid.h &&
-        !(reach * 3 < e->grid.h && e->grid.G < (int)ceil(sqrt((double)e->n / 3.0))))
+    if (ccd_cells_keep(reach, e->has_grid ? e->grid.h : 0, e->grid.G,
+                       (long)ceil(sqrt((double)e->n / 3.0))))
         return 0;
     *regridded = 1;
-    /* 10% slack so that slowly growing speeds do not re-plan every step */
-    double want = fmin(reach * 1.1, m->L * 2);
-    if (psim_engine_grid(e, want > reach ? want : reach, NULL))
+    if (psim_engine_grid(e, ccd_cells_want(m->L, reach), NULL))
         return -1;
     /* per-cell state of the detection, sized here rather than every step */
     return psim_reserve((void **)&m->wmax, &m->wmax_cap, e->grid.ncells + 1, sizeof *m->wmax);
@@ -287,12 +286,8 @@ static void gpu_sync(const psim_sim *e, void *p)
     if (!m->gpu)
         return;
     double s = cgpu_sync(m->gpu, m->pcoll, m->wcoll);
-    if (s < 0) {
-        /* the engine is about to read states the device could not give:
-         * nothing it writes would be true */
-        fputs("psim: --device gpu: the state could not be copied from the device\n", stderr);
-        exit(1);
-    }
+    if (s < 0)
+        psim_gpu_lost();
     m->gpu_stats->phase_s[CPHASE_COPY] += s;
 }
 

@@ -47,7 +47,7 @@ extern "C" {
 typedef struct ccounts {
     unsigned long long found;   /* candidates found (may exceed the room) */
     unsigned long long walls;   /* wall candidates among them */
-    unsigned long long tests;   /* pairs of a lower and a higher id tested */
+    unsigned long long tests;   /* pairs whose boxes overlap, tested */
     unsigned long long pair_colls, wall_colls;
     unsigned long long vmax;    /* bits of the largest |vx| + |vy| (>= 0) */
     int more;                   /* acceptance: a candidate is still live */
@@ -82,20 +82,22 @@ struct dmax {
     __device__ double operator()(double a, double b) const { return a > b ? a : b; }
 };
 
-/* The largest |vx| + |vy|, as the CPU path's (NaN is never larger). */
-__global__ static void k_vmax(const double *vx, const double *vy, uint32_t n, ccounts *c)
+/* The largest v >= 0 of a block's threads into *bits, as bits (a double
+ * >= 0 orders as its bits; NaN is never larger). */
+__device__ static void block_max(double v, unsigned long long *bits)
 {
     typedef cub::BlockReduce<double, PSIM_GPU_THREADS> reduce;
     __shared__ typename reduce::TempStorage shared;
+    double top = reduce(shared).Reduce(v > 0 ? v : 0, dmax());
+    if (threadIdx.x == 0 && top > 0)
+        atomicMax(bits, (unsigned long long)__double_as_longlong(top));
+}
+
+/* The largest |vx| + |vy|, as the CPU path's. */
+__global__ static void k_vmax(const double *vx, const double *vy, uint32_t n, ccounts *c)
+{
     uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
-    double d = 0;
-    if (i < n) {
-        double v = fabs(vx[i]) + fabs(vy[i]);
-        d = v > 0 ? v : 0;
-    }
-    double top = reduce(shared).Reduce(d, dmax());
-    if (threadIdx.x == 0 && top > 0)   /* a double >= 0 orders as its bits */
-        atomicMax(&c->vmax, (unsigned long long)__double_as_longlong(top));
+    block_max(i < n ? fabs(vx[i]) + fabs(vy[i]) : 0, &c->vmax);
 }
 
 /* The left edge of each disk's swept box (grown by g) as an ordered key,
@@ -130,19 +132,15 @@ __global__ static void k_boxes(const double *x, const double *y, const double *v
                                double *bx1, double *by0, double *by1,
                                unsigned long long *wmax)
 {
-    typedef cub::BlockReduce<double, PSIM_GPU_THREADS> reduce;
-    __shared__ typename reduce::TempStorage shared;
     uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
     double w = 0;
     if (i < n) {
         double b[4];
         ccd_box(x[i], y[i], vx[i], vy[i], g, b);
         bx0[i] = b[0], bx1[i] = b[1], by0[i] = b[2], by1[i] = b[3];
-        w = b[1] - b[0] > 0 ? b[1] - b[0] : 0;
+        w = b[1] - b[0];
     }
-    double top = reduce(shared).Reduce(w, dmax());
-    if (threadIdx.x == 0 && top > 0)
-        atomicMax(wmax, (unsigned long long)__double_as_longlong(top));
+    block_max(w, wmax);
 }
 
 /* Candidate k of the list, where there is room. */
@@ -256,7 +254,7 @@ __global__ static void k_drop(const ccand *c, uint32_t nc, uint8_t *live, const 
         cnt->more = 1;
 }
 
-/* An accepted collision, as advance.c's apply: the same operations. */
+/* An accepted collision (rules.h's ccd_apply, as the CPU path's). */
 __global__ static void k_apply(const ccand *cand, uint32_t nc, const uint8_t *live, double L,
                                double r, double *x, double *y, double *vx, double *vy,
                                int64_t *pcoll, int64_t *wcoll, ccounts *cnt)
@@ -265,26 +263,8 @@ __global__ static void k_apply(const ccand *cand, uint32_t nc, const uint8_t *li
     if (k >= nc || live[k] != 2)
         return;
     const ccand c = cand[k];
-    const double t = c.t;
-    uint32_t p = c.sp;
-    x[p] += vx[p] * t;
-    y[p] += vy[p] * t;
-    if (c.q < 0) {
-        wcoll[c.p]++;
-        atomicAdd(&cnt->wall_colls, 1ULL);
-        ccd_wall_reflect(x[p], y[p], &vx[p], &vy[p], L, r);
-        ccd_rest(&x[p], &y[p], vx[p], vy[p], 1 - t, L, r);
-        return;
-    }
-    uint32_t q = c.sq;
-    x[q] += vx[q] * t;
-    y[q] += vy[q] * t;
-    pcoll[c.p]++;
-    pcoll[c.q]++;
-    atomicAdd(&cnt->pair_colls, 1ULL);
-    ccd_pair_bounce(x[p], y[p], &vx[p], &vy[p], x[q], y[q], &vx[q], &vy[q]);
-    ccd_rest(&x[p], &y[p], vx[p], vy[p], 1 - t, L, r);
-    ccd_rest(&x[q], &y[q], vx[q], vy[q], 1 - t, L, r);
+    int wall = ccd_apply(&c, x, y, vx, vy, pcoll, wcoll, L, r);
+    atomicAdd(wall ? &cnt->wall_colls : &cnt->pair_colls, 1ULL);
 }
 
 /* Free flight of every disk not in an accepted collision. */
@@ -302,15 +282,6 @@ __global__ static void k_flight(uint32_t n, const uint8_t *busy, double *x, doub
 static unsigned blocks_of(size_t n)
 {
     return (unsigned)psim_gpu_blocks((long)n);
-}
-
-/* Seconds since *t0, the device's work done; *t0 moved on. */
-static double lap(double *t0)
-{
-    cudaDeviceSynchronize();
-    double t = psim_now(), dt = t - *t0;
-    *t0 = t;
-    return dt;
 }
 
 static void free_cands(cgpu *g)
@@ -397,21 +368,16 @@ static int fit_bands(cgpu *g, double vmax, psim_error *err)
 {
     double reach = ccd_reach(g->L, g->r, vmax);
     g->grow = g->r + ccd_margin_of(g->L, g->r, vmax);
-    int32_t most = psim_gpu_grid_most((long)g->d.n);
-    if (g->bands_reach > 0 && reach <= g->bands_reach &&
-        !(reach * 3 < g->bands_reach && g->bands.side < most))
+    if (ccd_cells_keep(reach, g->bands_reach, g->bands.side, psim_gpu_grid_most((long)g->d.n)))
         return 0;
-    double want = fmin(reach * 1.1, g->L * 2);
-    want = want > reach ? want : reach;
+    double want = ccd_cells_want(g->L, reach);
     if (psim_gpu_grid_plan(g->L, want, (long)g->d.n, &g->bands)) {
         psim_error_set(err, "--device gpu: no bands for a reach of %g in a box of %g", want,
                        g->L);
         return -1;
     }
     g->bands_reach = want;
-    g->band_bits = 1;
-    while (g->band_bits < 32 && ((uint32_t)(g->bands.side - 1) >> g->band_bits) != 0)
-        g->band_bits++;
+    g->band_bits = psim_gpu_bits((uint64_t)g->bands.side - 1);
     return 1;
 }
 
@@ -516,22 +482,22 @@ extern "C" int cgpu_step(cgpu *g, cgpu_step_out *o, psim_error *err)
     memcpy(&o->vmax, &h.vmax, sizeof o->vmax);
     if (fit_bands(g, o->vmax, err) < 0)
         return -1;
-    o->detect += lap(&t0);
+    o->detect += psim_dlap(&t0);
     ccd_sweep S = sort_disks(g, nb);
-    o->sort += lap(&t0);
+    o->sort += psim_dlap(&t0);
     long nc = detect(g, S, o, err);
     if (nc < 0)
         return -1;
-    o->detect += lap(&t0);
+    o->detect += psim_dlap(&t0);
     g->ncand = (size_t)nc;
     if (nc > 0) {
         order(g, (uint32_t)nc);
-        o->order += lap(&t0);
+        o->order += psim_dlap(&t0);
         long rounds = accept(g, (uint32_t)nc, err);
         if (rounds < 0)
             return -1;
         o->rounds = (uint64_t)rounds;
-        o->accept += lap(&t0);
+        o->accept += psim_dlap(&t0);
         cudaMemsetAsync(&g->cnt->pair_colls, 0, 2 * sizeof(unsigned long long));
         k_apply<<<blocks_of((size_t)nc), th>>>(g->cand2, (uint32_t)nc, g->live, g->L, g->r,
                                                d->x, d->y, d->vx, d->vy, g->pcoll, g->wcoll,
@@ -542,7 +508,7 @@ extern "C" int cgpu_step(cgpu *g, cgpu_step_out *o, psim_error *err)
     cudaError_t rc = read_counts(g, &h);
     if (rc == cudaSuccess)
         rc = cudaGetLastError();
-    o->move += lap(&t0);
+    o->move += psim_dlap(&t0);
     if (psim_cuda_failed(rc, "step", err))
         return -1;
     if (nc > 0)

@@ -10,6 +10,7 @@
 #include <math.h>
 
 #include "../../engine/hd.h"
+#include "cand.h"
 
 /* The authors' tolerance at the walls. */
 #define CCD_EPS 1e-14
@@ -103,6 +104,35 @@ PSIM_HD static inline void ccd_rest(double *x, double *y, double vx, double vy, 
         tt = tw;
     *x = *x + vx * tt;
     *y = *y + vy * tt;
+}
+
+/* Accepted candidate c applied to the arrays of places (x, y, vx, vy)
+ * and the collision counts by id: the disks move to the time of impact,
+ * reflect or bounce, and rest for the rest of the step.  Returns 1 for a
+ * wall collision, 0 for a pair's. */
+PSIM_HD static inline int ccd_apply(const ccand *c, double *x, double *y, double *vx,
+                                    double *vy, int64_t *pcoll, int64_t *wcoll, double L,
+                                    double r)
+{
+    const double t = c->t;
+    uint32_t p = c->sp;
+    x[p] += vx[p] * t;
+    y[p] += vy[p] * t;
+    if (c->q < 0) {
+        wcoll[c->p]++;
+        ccd_wall_reflect(x[p], y[p], &vx[p], &vy[p], L, r);
+        ccd_rest(&x[p], &y[p], vx[p], vy[p], 1 - t, L, r);
+        return 1;
+    }
+    uint32_t q = c->sq;
+    x[q] += vx[q] * t;
+    y[q] += vy[q] * t;
+    pcoll[c->p]++;
+    pcoll[c->q]++;
+    ccd_pair_bounce(x[p], y[p], &vx[p], &vy[p], x[q], y[q], &vx[q], &vy[q]);
+    ccd_rest(&x[p], &y[p], vx[p], vy[p], 1 - t, L, r);
+    ccd_rest(&x[q], &y[q], vx[q], vy[q], 1 - t, L, r);
+    return 0;
 }
 
 #endif

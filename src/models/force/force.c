@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "force.h"
+#include "../../engine/gpu.h"
 #include "../../engine/mem.h"
 #include "../../io/cs267_random.h"
 
@@ -330,12 +331,8 @@ static void gpu_sync(const psim_sim *e, void *p)
     if (!m->gpu)
         return;
     double s = fgpu_sync(m->gpu);
-    if (s < 0) {
-        /* the engine is about to read states the device could not give:
-         * nothing it writes would be true */
-        fputs("psim: --device gpu: the state could not be copied from the device\n", stderr);
-        exit(1);
-    }
+    if (s < 0)
+        psim_gpu_lost();
     m->gpu_stats->phase_s[FPHASE_COPY] += s;
 }
 

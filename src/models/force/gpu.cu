@@ -169,15 +169,6 @@ extern "C" fgpu *fgpu_create(psim_store *st, const flaw *law, int device, double
     return g;
 }
 
-/* Seconds since *t0, the device's work done; *t0 moved on. */
-static double lap(double *t0)
-{
-    cudaDeviceSynchronize();
-    double t = psim_now(), dt = t - *t0;
-    *t0 = t;
-    return dt;
-}
-
 extern "C" int fgpu_step(fgpu *g, fgpu_times *t, uint64_t *interactions, psim_error *err)
 {
     psim_dstore *d = &g->d;
@@ -188,20 +179,20 @@ extern "C" int fgpu_step(fgpu *g, fgpu_times *t, uint64_t *interactions, psim_er
     const unsigned blocks = (unsigned)nb, th = PSIM_GPU_THREADS;
     double t0 = psim_now();
     psim_dstore_sort(d, g->grid, blocks);
-    t->sort += lap(&t0);
+    t->sort += psim_dlap(&t0);
     cudaMemsetAsync(g->hits, 0, sizeof *g->hits);
     cudaMemsetAsync(g->lost, 0, sizeof *g->lost);
     around a = {d->cstart, d->cend, g->grid, {0, 0, 0, 0}};
     /* x2, y2: free after the gather, the accelerations */
     k_force<<<blocks, th>>>(g->law, a, d->x, d->y, d->id, d->n, d->x2, d->y2, g->hits);
-    t->force += lap(&t0);
+    t->force += psim_dlap(&t0);
     k_move<<<blocks, th>>>(g->law, d->x, d->y, d->vx, d->vy, d->x2, d->y2, d->n, g->lost);
     int lost = 0;
     unsigned long long hits = 0;
     cudaError_t rc = cudaMemcpy(&lost, g->lost, sizeof lost, cudaMemcpyDeviceToHost);
     if (rc == cudaSuccess)
         rc = cudaMemcpy(&hits, g->hits, sizeof hits, cudaMemcpyDeviceToHost);
-    t->integrate += lap(&t0);
+    t->integrate += psim_dlap(&t0);
     g->newer = 1;
     if (rc == cudaSuccess)
         rc = cudaGetLastError();
